@@ -1,0 +1,49 @@
+#' Case study: field data of the NREL site entrance building
+#'
+#' Twelve months (January to December 2013) of measured electricity use of a
+#' 79 m2 single-storey building in Golden, Colorado (the case study of Chong
+#' and Menberg 2018), with the monthly weather that drives it.
+#'
+#' @format A data frame with 12 rows (months, January first) and 4 columns:
+#' \describe{
+#'   \item{y}{measured monthly electricity use (kWh)}
+#'   \item{temp}{monthly mean outdoor dry-bulb temperature (degrees C)}
+#'   \item{rh}{monthly mean outdoor relative humidity (\%)}
+#'   \item{solar}{monthly mean direct solar radiation rate per area (W/m2)}
+#' }
+#' `temp` and `rh` are exactly the monthly means of the 2013 weather file
+#' shipped as `system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")`;
+#' `solar` is within about 2\% of that file's monthly mean direct normal
+#' radiation (EnergyPlus's site direct solar radiation rate per area).
+#' @source `DATAFIELD.csv` of the bc-stan repository (MIT licence, (c) 2018
+#'   Adrian Chong; see the file `COPYRIGHTS` of this package), renamed
+#'   columns; built by `data-raw/seb.R`.
+#' @family case study
+#' @examples
+#' seb_field
+"seb_field"
+
+#' Case study: EnergyPlus simulation runs of the NREL site entrance building
+#'
+#' The simulation design of the case study of Chong and Menberg (2018): 10
+#' settings of the three most influential uncertain parameters, each
+#' simulated with EnergyPlus over the 12 field months.
+#'
+#' @format A data frame with 120 rows (rows 1-12 are setting 1, January to
+#' December; rows 13-24 setting 2; and so on) and 7 columns:
+#' \describe{
+#'   \item{eta}{simulated monthly electricity use (kWh)}
+#'   \item{temp, rh, solar}{the observable inputs of [seb_field], repeated
+#'     for each setting}
+#'   \item{fan_total_efficiency}{fan total efficiency (fraction)}
+#'   \item{equipment_power_density}{electric equipment power density (W/m2)}
+#'   \item{infiltration_per_exterior_area}{infiltration flow rate per
+#'     exterior surface area (m3/s per m2)}
+#' }
+#' @source `DATACOMP.csv` of the bc-stan repository (MIT licence, (c) 2018
+#'   Adrian Chong; see the file `COPYRIGHTS` of this package), renamed
+#'   columns; built by `data-raw/seb.R`.
+#' @family case study
+#' @examples
+#' head(seb_sim)
+"seb_sim"

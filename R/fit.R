@@ -1,0 +1,190 @@
+#' Calibrate a simulator against field data (KOH model)
+#'
+#' Fits the Kennedy-O'Hagan model of Chong and Menberg (2018) with Stan's
+#' NUTS sampler: a Gaussian-process emulator of the simulator over
+#' `(x, t)`, a Gaussian-process discrepancy over `x`, and observation noise,
+#' with the priors of [koh_priors()]. The Stan program is compiled when the
+#' package is installed.
+#'
+#' @param field A [koh_data()] object, or the field data frame (then `sim` is
+#'   required and columns are taken by position, see [koh_data()]).
+#' @param sim The simulation data frame when `field` is a data frame.
+#' @param priors A [koh_priors()] object.
+#' @param chains,iter Number of Markov chains and iterations per chain
+#'   (including warm-up).
+#' @param warmup Warm-up iterations per chain; defaults to half of `iter`.
+#' @param seed Random seed; by default one is drawn and stored in the result
+#'   so the fit can be repeated.
+#' @param cores Number of cores to run chains in parallel on.
+#' @param ... Further arguments to [rstan::sampling()], e.g. `control`,
+#'   `init` or `refresh`.
+#' @return An object of class `koh_fit`: the `stanfit`, the [koh_data()]
+#'   (with its scaling), the priors and the sampler settings. Use `print()`,
+#'   `summary()` and [posterior::as_draws()] on it.
+#' @family calibration
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 1)
+#' fit
+#' }
+calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
+                      iter = 2000L, warmup = floor(iter / 2), seed = NULL,
+                      cores = getOption("mc.cores", 1L), ...) {
+  data <- if (inherits(field, "koh_data")) field else koh_data(field, sim)
+  if (!inherits(priors, "koh_priors")) {
+    abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
+                     x = "It is {.obj_type_friendly {priors}}."),
+                   "prior")
+  }
+  check_count(chains)
+  check_count(iter)
+  check_count(cores)
+  if (!isTRUE(checkmate::check_count(warmup)) || warmup >= iter) {
+    abort_bayesbem(c("{.arg warmup} must be a whole number from 0 to {.arg iter} - 1 ({iter - 1}).",
+                     x = "It is {.val {format(warmup)}}."),
+                   "argument")
+  }
+  seed <- seed %||% sample.int(.Machine$integer.max, 1L)
+  check_count(seed)
+  stan_data <- koh_stan_data(data, priors)
+  stanfit <- rstan::sampling(stanmodels$koh, data = stan_data, chains = chains,
+                             iter = iter, warmup = warmup, seed = seed,
+                             cores = min(cores, chains), ...)
+  if (stanfit@mode != 0L) {
+    abort_bayesbem(c("Stan could not sample the model.",
+                     i = "Rerun with {.code refresh = 1} to see Stan's messages."),
+                   "sampling")
+  }
+  new_koh_fit(stanfit, data = data, priors = priors,
+              settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed))
+}
+
+new_koh_fit <- function(stanfit, data, priors, settings) {
+  structure(list(stanfit = stanfit, data = data, priors = priors, settings = settings),
+            class = "koh_fit")
+}
+
+#' Posterior draws of a KOH calibration in physical units
+#'
+#' The calibration parameters are named after their columns in the
+#' simulation table and given in their physical units; the correlation
+#' parameters `beta_eta[...]` and `beta_delta[...]` are labelled by input;
+#' `lambda_eta`, `lambda_delta` and `lambda_e` are precisions on the
+#' standardised output scale.
+#'
+#' @param x A `koh_fit`.
+#' @param ... Unused.
+#' @return A [posterior::draws_array].
+#' @family calibration
+#' @name as_draws.koh_fit
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 1)
+#' posterior::summarise_draws(posterior::as_draws(fit))
+#' }
+NULL
+
+#' @rdname as_draws.koh_fit
+#' @exportS3Method posterior::as_draws_array
+as_draws_array.koh_fit <- function(x, ...) {
+  d <- x$data
+  arr <- as.array(x$stanfit, pars = c("tf", "beta_eta", "beta_delta", "lambda_eta",
+                                      "lambda_delta", "lambda_e", "lp__"))
+  tf <- grep("^tf\\[", dimnames(arr)[[3]])
+  for (k in seq_along(tf)) {
+    arr[, , tf[k]] <- arr[, , tf[k]] * (d$scaling$t_max[[k]] - d$scaling$t_min[[k]]) +
+      d$scaling$t_min[[k]]
+  }
+  dimnames(arr)[[3]] <- c(d$names$t,
+                          sprintf("beta_eta[%s]", c(d$names$x, d$names$t)),
+                          sprintf("beta_delta[%s]", d$names$x),
+                          "lambda_eta", "lambda_delta", "lambda_e", "lp__")
+  posterior::as_draws_array(arr)
+}
+
+#' @rdname as_draws.koh_fit
+#' @exportS3Method posterior::as_draws
+as_draws.koh_fit <- function(x, ...) as_draws_array.koh_fit(x, ...)
+
+#' @rdname as_draws.koh_fit
+#' @exportS3Method posterior::as_draws_df
+as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.koh_fit(x))
+
+#' Summarise a KOH calibration
+#'
+#' Posterior summaries of the calibration parameters in physical units and of
+#' the Gaussian-process hyperparameters: mean, sd, 5%, 50% and 95%
+#' quantiles, rank-normalised R-hat, bulk and tail effective sample sizes
+#' (all from the posterior package).
+#'
+#' @param object,x A `koh_fit`, or for `print()` its summary.
+#' @param ... Unused.
+#' @return `summary()` returns an object of class `summary.koh_fit`: a list
+#'   with data frames `parameters` and `hyperparameters`, and the sizes and
+#'   sampler settings; `print()` returns its argument invisibly.
+#' @family calibration
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 1)
+#' summary(fit)$parameters
+#' }
+summary.koh_fit <- function(object, ...) {
+  draws <- as_draws_array.koh_fit(object)
+  s <- posterior::summarise_draws(
+    posterior::subset_draws(draws, variable = "lp__", exclude = TRUE),
+    mean = mean, sd = stats::sd,
+    ~ stats::quantile(.x, c(0.05, 0.5, 0.95), names = FALSE),
+    rhat = posterior::rhat, ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail
+  )
+  s <- as.data.frame(s)
+  names(s)[names(s) %in% c("1", "2", "3")] <- c("q5", "q50", "q95")
+  is_tf <- s$variable %in% object$data$names$t
+  structure(
+    list(parameters = s[is_tf, , drop = FALSE],
+         hyperparameters = s[!is_tf, , drop = FALSE],
+         data = object$data[c("n", "m", "p", "q")],
+         settings = object$settings,
+         stanfit_info = sampler_info(object$stanfit)),
+    class = "summary.koh_fit"
+  )
+}
+
+sampler_info <- function(stanfit) {
+  sp <- rstan::get_sampler_params(stanfit, inc_warmup = FALSE)
+  list(divergent = sum(vapply(sp, function(s) sum(s[, "divergent__"]), numeric(1))))
+}
+
+#' @rdname summary.koh_fit
+#' @param digits Significant digits to print.
+#' @export
+print.summary.koh_fit <- function(x, digits = 3, ...) {
+  st <- x$settings
+  cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters\n",
+              x$data$n, x$data$m, x$data$p, x$data$q))
+  cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions\n\n",
+              st$chains, st$iter, st$warmup, st$seed, x$stanfit_info$divergent))
+  cat("Calibration parameters (physical units):\n")
+  print_summary_table(x$parameters, digits)
+  cat("\nGaussian-process hyperparameters (standardised scale):\n")
+  print_summary_table(x$hyperparameters, digits)
+  invisible(x)
+}
+
+print_summary_table <- function(s, digits) {
+  out <- s[-1]
+  rownames(out) <- s$variable
+  num <- c("mean", "sd", "q5", "q50", "q95")
+  out[num] <- lapply(out[num], signif, digits = digits)
+  out$rhat <- round(out$rhat, 3)
+  out[c("ess_bulk", "ess_tail")] <- lapply(out[c("ess_bulk", "ess_tail")], round)
+  print(out)
+}
+
+#' @rdname summary.koh_fit
+#' @export
+print.koh_fit <- function(x, digits = 3, ...) {
+  print(summary(x), digits = digits)
+  invisible(x)
+}

@@ -1,0 +1,184 @@
+#' Priors of the KOH model
+#'
+#' `koh_priors()` collects the priors of a calibration: one prior per
+#' calibration parameter and the hyperpriors of the Gaussian processes. The
+#' defaults are those of Chong and Menberg (2018): flat priors on the
+#' calibration parameters, `rho = exp(-beta / 4) ~ Beta(1, 0.3)` for every
+#' correlation parameter, and Gamma priors (shape, rate) on the precisions
+#' `lambda_eta ~ Gamma(10, 10)`, `lambda_delta ~ Gamma(10, 0.3)` and
+#' `lambda_e ~ Gamma(10, 0.03)`, which encode the ordering
+#' noise < discrepancy < simulator variance on the standardised scale.
+#'
+#' @param tf A named list of priors for the calibration parameters, each made
+#'   by [prior_normal()] or [prior_uniform()], e.g. from [prior_level()].
+#'   Parameters left out get the flat prior `U(0, 1)` on their scaled range.
+#' @param rho_eta,rho_delta Shape parameters `c(a, b)` of the Beta priors on
+#'   the emulator's and the discrepancy's correlation parameters.
+#' @param lambda_eta,lambda_delta,lambda_e Shape and rate `c(shape, rate)` of
+#'   the Gamma priors on the emulator, discrepancy and noise precisions.
+#' @param nugget A small number added to the diagonal of the emulator's
+#'   covariance (on the standardised scale) so that its Cholesky factor
+#'   exists when simulation runs nearly coincide. Not part of the paper's
+#'   model; the default `1e-6` changes no result that matters.
+#' @return An object of class `koh_priors`.
+#' @family priors
+#' @export
+#' @examples
+#' koh_priors()
+#' koh_priors(tf = list(equipment_power_density = prior_normal(21.9, 0.2)))
+koh_priors <- function(tf = list(), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
+                       lambda_eta = c(10, 10), lambda_delta = c(10, 0.3),
+                       lambda_e = c(10, 0.03), nugget = 1e-6) {
+  if (!is.list(tf) || (length(tf) > 0L && (is.null(names(tf)) || any(names(tf) == ""))) ||
+      !all(vapply(tf, inherits, logical(1), "bayesbem_prior"))) {
+    abort_bayesbem(c("{.arg tf} must be a named list of priors.",
+                     i = "Make each with {.fn prior_normal} or {.fn prior_uniform}, named by its parameter."),
+                   "prior")
+  }
+  hyper <- list(rho_eta = rho_eta, rho_delta = rho_delta, lambda_eta = lambda_eta,
+                lambda_delta = lambda_delta, lambda_e = lambda_e)
+  for (nm in names(hyper)) {
+    v <- hyper[[nm]]
+    if (!is.numeric(v) || length(v) != 2L || !all(is.finite(v)) || any(v <= 0)) {
+      abort_bayesbem(c("{.arg {nm}} must be two positive numbers.",
+                       x = "It is {.val {format(v)}}."),
+                     "prior")
+    }
+  }
+  if (!is.numeric(nugget) || length(nugget) != 1L || !is.finite(nugget) || nugget < 0) {
+    abort_bayesbem("{.arg nugget} must be one non-negative number.", "prior")
+  }
+  structure(c(list(tf = tf), hyper, list(nugget = nugget)), class = "koh_priors")
+}
+
+#' Priors for one calibration parameter
+#'
+#' `prior_uniform()` is the flat prior `U(0, 1)` on the parameter's scaled
+#' range (its design range). `prior_normal(mu, sd)` is a normal prior
+#' truncated to the design range, with `mu` in the parameter's physical units
+#' (mapped to \[0, 1\] by the package) and `sd` on the \[0, 1\] scale, as in
+#' the paper (weakly informative `sd = 0.2`, specific informative
+#' `sd = 0.05`).
+#'
+#' @param mu Prior mean in physical units; must lie in the design range.
+#' @param sd Prior standard deviation on the \[0, 1\] scale.
+#' @return An object of class `bayesbem_prior`.
+#' @family priors
+#' @export
+#' @examples
+#' prior_uniform()
+#' prior_normal(mu = 21.9, sd = 0.2)
+prior_normal <- function(mu, sd) {
+  if (!is.numeric(mu) || length(mu) != 1L || !is.finite(mu)) {
+    abort_bayesbem("{.arg mu} must be one finite number.", "prior")
+  }
+  if (!is.numeric(sd) || length(sd) != 1L || !is.finite(sd) || sd <= 0) {
+    abort_bayesbem(c("{.arg sd} must be one positive number.",
+                     x = "It is {.val {format(sd)}}.",
+                     i = "The paper's levels are 0.2 (weakly informative) and 0.05 (specific)."),
+                   "prior")
+  }
+  structure(list(family = "normal", mu = mu, sd = sd), class = "bayesbem_prior")
+}
+
+#' @rdname prior_normal
+#' @export
+prior_uniform <- function() {
+  structure(list(family = "uniform"), class = "bayesbem_prior")
+}
+
+#' @export
+format.bayesbem_prior <- function(x, ...) {
+  if (x$family == "uniform") "U(0, 1)" else sprintf("N(%s, %s) on [0, 1]", format(x$mu), format(x$sd))
+}
+
+#' @export
+print.bayesbem_prior <- function(x, ...) {
+  cat("<bayesbem_prior>", format(x), "\n")
+  invisible(x)
+}
+
+#' The paper's three prior levels
+#'
+#' Builds the calibration-parameter priors of one of the levels compared by
+#' Chong and Menberg (2018): `"flat"` (`U(0, 1)`), `"weak"` (`N(mu, 0.2)`)
+#' or `"specific"` (`N(mu, 0.05)`), all on the \[0, 1\] scale and truncated
+#' to it.
+#'
+#' @param level One of `"flat"`, `"weak"` or `"specific"`.
+#' @param mu A named numeric vector of prior means in physical units, one per
+#'   calibration parameter (the modeller's best guess, e.g. the initial
+#'   value); not needed for `"flat"`.
+#' @return A named list of priors for the `tf` argument of [koh_priors()].
+#' @family priors
+#' @export
+#' @examples
+#' prior_level("weak", mu = c(equipment_power_density = 21.9))
+#' koh_priors(tf = prior_level("specific", mu = c(fan_total_efficiency = 0.5)))
+prior_level <- function(level = c("flat", "weak", "specific"), mu = NULL) {
+  level <- match.arg(level)
+  if (level == "flat") {
+    return(lapply(stats::setNames(nm = names(mu)), function(i) prior_uniform()))
+  }
+  if (!is.numeric(mu) || is.null(names(mu)) || any(names(mu) == "")) {
+    abort_bayesbem(c("{.arg mu} must be a named numeric vector for the {.val {level}} level.",
+                     i = "Give each calibration parameter's best guess in physical units, e.g. {.code c(equipment_power_density = 21.9)}."),
+                   "prior")
+  }
+  sd <- c(weak = 0.2, specific = 0.05)[[level]]
+  lapply(mu, prior_normal, sd = sd)
+}
+
+#' @export
+print.koh_priors <- function(x, ...) {
+  cli::cli_text("{.cls koh_priors}")
+  tf <- if (length(x$tf) == 0L) "U(0, 1) for every parameter" else
+    paste(names(x$tf), vapply(x$tf, format, character(1)), sep = ": ", collapse = "; ")
+  cli::cli_bullets(c(
+    "*" = "tf: {tf} (others U(0, 1))",
+    "*" = "rho_eta ~ Beta({x$rho_eta[1]}, {x$rho_eta[2]}), rho_delta ~ Beta({x$rho_delta[1]}, {x$rho_delta[2]})",
+    "*" = "lambda_eta ~ Gamma({x$lambda_eta[1]}, {x$lambda_eta[2]}), lambda_delta ~ Gamma({x$lambda_delta[1]}, {x$lambda_delta[2]}), lambda_e ~ Gamma({x$lambda_e[1]}, {x$lambda_e[2]})"
+  ))
+  invisible(x)
+}
+
+# The data block of inst/stan/koh.stan for given data and priors; checks that
+# every tf prior names a parameter and that its mean lies in the design range.
+koh_stan_data <- function(data, priors, call = rlang::caller_env()) {
+  t_names <- data$names$t
+  unknown <- setdiff(names(priors$tf), t_names)
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("Prior{?s} given for {.field {unknown}}, which {?is not a/are not} calibration parameter{?s}.",
+                     i = "The calibration parameters are {.field {t_names}}."),
+                   "prior", call = call)
+  }
+  q <- data$q
+  is_normal <- mu <- numeric(q)
+  sd <- rep(1, q)
+  for (k in seq_len(q)) {
+    pr <- priors$tf[[t_names[k]]]
+    if (is.null(pr) || pr$family == "uniform") next
+    lo <- data$scaling$t_min[[k]]
+    hi <- data$scaling$t_max[[k]]
+    if (pr$mu < lo || pr$mu > hi) {
+      abort_bayesbem(c("The prior mean of {.field {t_names[k]}} must lie in its design range [{signif(lo, 4)}, {signif(hi, 4)}].",
+                       x = "It is {pr$mu}.",
+                       i = "Give {.arg mu} in the parameter's physical units, or widen the simulation design."),
+                     "prior", call = call)
+    }
+    is_normal[k] <- 1
+    mu[k] <- (pr$mu - lo) / (hi - lo)
+    sd[k] <- pr$sd
+  }
+  list(
+    n = data$n, m = data$m, p = data$p, q = q,
+    y = data$y, eta = data$eta, xf = data$xf, xc = data$xc, tc = data$tc,
+    tf_is_normal = as.array(is_normal), tf_mu = as.array(mu), tf_sd = as.array(sd),
+    rho_eta_a = priors$rho_eta[1], rho_eta_b = priors$rho_eta[2],
+    rho_delta_a = priors$rho_delta[1], rho_delta_b = priors$rho_delta[2],
+    lambda_eta_shape = priors$lambda_eta[1], lambda_eta_rate = priors$lambda_eta[2],
+    lambda_delta_shape = priors$lambda_delta[1], lambda_delta_rate = priors$lambda_delta[2],
+    lambda_e_shape = priors$lambda_e[1], lambda_e_rate = priors$lambda_e[2],
+    nugget = priors$nugget
+  )
+}

@@ -1,0 +1,1 @@
+// Headers every Stan model of the package includes (none needed yet).
