@@ -51,7 +51,7 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL) {
   if (m < q + 2L) {
     abort_bayesbem(c("{.arg sim} must have at least q + 2 = {q + 2} rows for {q} calibration parameter{?s}.",
                      x = "It has {m}.",
-                     i = "Run the simulator at more design points (see {.fn design_lhs})."),
+                     i = "Run the simulator at more design points."),
                    "too_few_rows")
   }
   xf_raw <- as.matrix(field[cols$x])
@@ -163,7 +163,7 @@ check_numeric_complete <- function(d, cols, arg, call = rlang::caller_env()) {
     bad <- which(!is.finite(v))
     if (length(bad) > 0L) {
       abort_bayesbem(c("Column {.field {col}} of {.arg {arg}} has missing or non-finite values.",
-                       x = "Row{?s} {bad}.",
+                       x = "{cli::qty(length(bad))}Row{?s} {bad}.",
                        i = "Remove or fill those rows before calibrating."),
                      "missing", call = call)
     }
@@ -173,7 +173,7 @@ check_numeric_complete <- function(d, cols, arg, call = rlang::caller_env()) {
 check_varies <- function(ranges, cols, where, call = rlang::caller_env()) {
   flat <- cols[!(ranges > 0)]
   if (length(flat) > 0L) {
-    abort_bayesbem(c("Column{?s} {.field {flat}} {?is/are} constant over {where}.",
+    abort_bayesbem(c("{cli::qty(length(flat))}Column{?s} {.field {flat}} {?is/are} constant over {where}.",
                      i = "A constant column cannot be scaled and carries no information: drop it."),
                    "constant", call = call)
   }

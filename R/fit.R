@@ -16,8 +16,11 @@
 #' @param seed Random seed; by default one is drawn and stored in the result
 #'   so the fit can be repeated.
 #' @param cores Number of cores to run chains in parallel on.
-#' @param ... Further arguments to [rstan::sampling()], e.g. `control`,
-#'   `init` or `refresh`.
+#' @param control Sampler control passed to [rstan::sampling()]. The default
+#'   `adapt_delta = 0.9` (Stan's is 0.8) takes smaller steps, which the
+#'   curved posteriors of GP hyperparameters need to avoid divergences.
+#' @param ... Further arguments to [rstan::sampling()], e.g. `init` or
+#'   `refresh`.
 #' @return An object of class `koh_fit`: the `stanfit`, the [koh_data()]
 #'   (with its scaling), the priors and the sampler settings. Use `print()`,
 #'   `summary()` and [posterior::as_draws()] on it.
@@ -30,7 +33,8 @@
 #' }
 calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       iter = 2000L, warmup = floor(iter / 2), seed = NULL,
-                      cores = getOption("mc.cores", 1L), ...) {
+                      cores = getOption("mc.cores", 1L),
+                      control = list(adapt_delta = 0.9), ...) {
   data <- if (inherits(field, "koh_data")) field else koh_data(field, sim)
   if (!inherits(priors, "koh_priors")) {
     abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
@@ -50,7 +54,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   stan_data <- koh_stan_data(data, priors)
   stanfit <- rstan::sampling(stanmodels$koh, data = stan_data, chains = chains,
                              iter = iter, warmup = warmup, seed = seed,
-                             cores = min(cores, chains), ...)
+                             cores = min(cores, chains), control = control, ...)
   if (stanfit@mode != 0L) {
     abort_bayesbem(c("Stan could not sample the model.",
                      i = "Rerun with {.code refresh = 1} to see Stan's messages."),
@@ -133,13 +137,16 @@ as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.ko
 summary.koh_fit <- function(object, ...) {
   draws <- as_draws_array.koh_fit(object)
   s <- posterior::summarise_draws(
-    posterior::subset_draws(draws, variable = "lp__", exclude = TRUE),
+    posterior::subset_draws(draws, variable = setdiff(posterior::variables(draws), "lp__")),
     mean = mean, sd = stats::sd,
-    ~ stats::quantile(.x, c(0.05, 0.5, 0.95), names = FALSE),
+    quantiles = function(v) {
+      stats::setNames(stats::quantile(v, c(0.05, 0.5, 0.95), names = FALSE),
+                      c("q5", "q50", "q95"))
+    },
     rhat = posterior::rhat, ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail
   )
-  s <- as.data.frame(s)
-  names(s)[names(s) %in% c("1", "2", "3")] <- c("q5", "q50", "q95")
+  # plain numeric columns, not posterior's pillar-formatted ones
+  s <- as.data.frame(lapply(s, function(col) as.vector(unclass(col))))
   is_tf <- s$variable %in% object$data$names$t
   structure(
     list(parameters = s[is_tf, , drop = FALSE],

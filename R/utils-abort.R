@@ -1,13 +1,16 @@
-# Every error the package raises goes through here so that it carries the
-# class `bayesbem_error` plus a specific subclass users and tests can catch.
-abort_bayesbem <- function(message, type, ..., call = rlang::caller_env()) {
+# Every condition the package raises goes through here so that it carries the
+# class `bayesbem_error` (or `bayesbem_warning`) plus a specific subclass that
+# users and tests can catch. `.envir` is the caller's frame, where cli
+# interpolates `{}` in the message.
+abort_bayesbem <- function(message, type, ..., call = rlang::caller_env(),
+                           .envir = parent.frame()) {
   cli::cli_abort(message, class = c(paste0("bayesbem_error_", type), "bayesbem_error"),
-                 ..., call = call)
+                 ..., call = call, .envir = .envir)
 }
 
-warn_bayesbem <- function(message, type, ...) {
+warn_bayesbem <- function(message, type, ..., .envir = parent.frame()) {
   cli::cli_warn(message, class = c(paste0("bayesbem_warning_", type), "bayesbem_warning"),
-                ...)
+                ..., .envir = .envir)
 }
 
 # Checks that `x` is one positive whole number; `arg` names it in the error.

@@ -1,0 +1,4 @@
+library(testthat)
+library(bayesbem)
+
+test_check("bayesbem")

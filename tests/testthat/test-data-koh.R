@@ -1,0 +1,78 @@
+test_that("koh_data() scales as the method says", {
+  d <- koh_data(seb_field, seb_sim)
+  expect_s3_class(d, "koh_data")
+  expect_equal(c(d$n, d$m, d$p, d$q), c(12, 120, 3, 3))
+  expect_equal(d$scaling$y_center, mean(seb_sim$eta))
+  expect_equal(d$scaling$y_scale, sd(seb_sim$eta))
+  expect_equal(mean(d$eta), 0)
+  expect_equal(sd(d$eta), 1)
+  # x over field and simulation rows together, t over the design
+  all_x <- rbind(d$xf, d$xc)
+  expect_equal(unname(apply(all_x, 2, range)), matrix(c(0, 1), 2, 3))
+  expect_equal(unname(apply(d$tc, 2, range)), matrix(c(0, 1), 2, 3))
+  expect_equal(d$scaling$t_min[["equipment_power_density"]], min(seb_sim$equipment_power_density))
+})
+
+test_that("scaling round-trips", {
+  d <- koh_data(seb_field, seb_sim)
+  s <- d$scaling
+  expect_equal(bayesbem:::unscale_y(d$y, s), seb_field$y, tolerance = 1e-12)
+  expect_equal(bayesbem:::unscale_y(d$eta, s), seb_sim$eta, tolerance = 1e-12)
+  expect_equal(unname(bayesbem:::unscale_x(d$xf, s)), unname(as.matrix(seb_field[2:4])),
+               tolerance = 1e-12)
+  expect_equal(unname(bayesbem:::unscale_t(d$tc, s)), unname(as.matrix(seb_sim[5:7])),
+               tolerance = 1e-12)
+})
+
+test_that("columns can be given by name, in any order", {
+  by_pos <- koh_data(seb_field, seb_sim)
+  shuffled <- seb_sim[c(7, 2, 1, 5, 4, 3, 6)]
+  by_name <- koh_data(seb_field[c(3, 1, 4, 2)], shuffled, y = "y", eta = "eta",
+                      x = c("temp", "rh", "solar"),
+                      t = c("fan_total_efficiency", "equipment_power_density",
+                            "infiltration_per_exterior_area"))
+  expect_equal(by_name$xc, by_pos$xc)
+  expect_equal(by_name$tc, by_pos$tc)
+  expect_equal(by_name$y, by_pos$y)
+})
+
+test_that("the paper's column layout works by position", {
+  field <- setNames(seb_field, c("yf", "xf1", "xf2", "xf3"))
+  sim <- setNames(seb_sim, c("yc", "xc1", "xc2", "xc3", "tc1", "tc2", "tc3"))
+  d <- koh_data(field, sim)
+  expect_equal(d$names$t, c("tc1", "tc2", "tc3"))
+  expect_equal(d$xc, koh_data(seb_field, seb_sim)$xc, ignore_attr = TRUE)
+})
+
+test_that("bad input gets classed errors that say what to fix", {
+  withr::local_options(cli.num_colors = 1)
+  bad_na <- seb_field
+  bad_na$rh[c(2, 5)] <- NA
+  expect_error(koh_data(bad_na, seb_sim), class = "bayesbem_error_missing")
+  expect_snapshot(koh_data(bad_na, seb_sim), error = TRUE)
+
+  bad_chr <- seb_sim
+  bad_chr$fan_total_efficiency <- as.character(bad_chr$fan_total_efficiency)
+  expect_error(koh_data(seb_field, bad_chr), class = "bayesbem_error_non_numeric")
+  expect_snapshot(koh_data(seb_field, bad_chr), error = TRUE)
+
+  expect_error(koh_data(seb_field, seb_sim[1:4]), class = "bayesbem_error_columns")
+  expect_snapshot(koh_data(seb_field, seb_sim[1:4]), error = TRUE)
+  expect_snapshot(koh_data(seb_field, seb_sim, x = c("temp", "wind")), error = TRUE)
+
+  flat_x <- seb_field
+  flat_x$rh <- 50
+  flat_sim <- seb_sim
+  flat_sim$rh <- 50
+  expect_error(koh_data(flat_x, flat_sim), class = "bayesbem_error_constant")
+  flat_t <- seb_sim
+  flat_t$equipment_power_density <- 10
+  expect_snapshot(koh_data(seb_field, flat_t), error = TRUE)
+
+  expect_error(koh_data(seb_field[1, ], seb_sim), class = "bayesbem_error_too_few_rows")
+  expect_snapshot(koh_data(seb_field[1, ], seb_sim), error = TRUE)
+  expect_error(koh_data(seb_field, seb_sim[1:4, ]), class = "bayesbem_error_too_few_rows")
+  expect_snapshot(koh_data(seb_field, seb_sim[1:4, ]), error = TRUE)
+
+  expect_snapshot(koh_data(list(1, 2), seb_sim), error = TRUE)
+})

@@ -1,0 +1,15 @@
+# Runs the test suite against the installed package and ends with one line
+# "N passed, N failed, N skipped" (expectations); exits 1 on any failure.
+# Usage, from the package root: Rscript tools/run-tests.R
+Sys.setenv(NOT_CRAN = "true")
+results <- testthat::test_dir("tests/testthat", package = "bayesbem",
+                              load_package = "installed", stop_on_failure = FALSE,
+                              reporter = testthat::ProgressReporter$new(show_praise = FALSE))
+outcomes <- unlist(lapply(results, function(test) {
+  vapply(test$results, function(e) class(e)[1], character(1))
+}))
+passed <- sum(outcomes == "expectation_success")
+failed <- sum(outcomes %in% c("expectation_failure", "expectation_error"))
+skipped <- sum(outcomes == "expectation_skip")
+cat(sprintf("\n%d passed, %d failed, %d skipped\n", passed, failed, skipped))
+quit(status = if (failed > 0L) 1L else 0L)
