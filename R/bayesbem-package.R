@@ -32,4 +32,6 @@
 #' @importFrom rstan sampling
 #' @importFrom RcppParallel RcppParallelLibs
 #' @importFrom rlang %||%
+#' @importFrom rstantools rstan_config
+#' @importFrom parallel detectCores
 "_PACKAGE"

@@ -8,12 +8,12 @@
 #' \describe{
 #'   \item{y}{measured monthly electricity use (kWh)}
 #'   \item{temp}{monthly mean outdoor dry-bulb temperature (degrees C)}
-#'   \item{rh}{monthly mean outdoor relative humidity (\%)}
+#'   \item{rh}{monthly mean outdoor relative humidity (percent)}
 #'   \item{solar}{monthly mean direct solar radiation rate per area (W/m2)}
 #' }
 #' `temp` and `rh` are exactly the monthly means of the 2013 weather file
 #' shipped as `system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")`;
-#' `solar` is within about 2\% of that file's monthly mean direct normal
+#' `solar` is within about 2 percent of that file's monthly mean direct normal
 #' radiation (EnergyPlus's site direct solar radiation rate per area).
 #' @source `DATAFIELD.csv` of the bc-stan repository (MIT licence, (c) 2018
 #'   Adrian Chong; see the file `COPYRIGHTS` of this package), renamed

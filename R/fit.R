@@ -19,6 +19,11 @@
 #' @param control Sampler control passed to [rstan::sampling()]. The default
 #'   `adapt_delta = 0.9` (Stan's is 0.8) takes smaller steps, which the
 #'   curved posteriors of GP hyperparameters need to avoid divergences.
+#' @param predict_at Optional data frame of observable inputs at which the
+#'   calibrated output is sampled inside Stan as extra parameters (the
+#'   paper's Appendix D; about twice as slow). Read them with
+#'   `predict(fit, method = "sampled")`. [predict.koh_fit()] gives the same
+#'   predictions by exact conditioning after the fit, for any inputs.
 #' @param ... Further arguments to [rstan::sampling()], e.g. `init` or
 #'   `refresh`.
 #' @return An object of class `koh_fit`: the `stanfit`, the [koh_data()]
@@ -34,7 +39,7 @@
 calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       iter = 2000L, warmup = floor(iter / 2), seed = NULL,
                       cores = getOption("mc.cores", 1L),
-                      control = list(adapt_delta = 0.9), ...) {
+                      control = list(adapt_delta = 0.9), predict_at = NULL, ...) {
   data <- if (inherits(field, "koh_data")) field else koh_data(field, sim)
   if (!inherits(priors, "koh_priors")) {
     abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
@@ -51,21 +56,38 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   }
   seed <- seed %||% sample.int(.Machine$integer.max, 1L)
   check_count(seed)
-  stan_data <- koh_stan_data(data, priors)
-  stanfit <- rstan::sampling(stanmodels$koh, data = stan_data, chains = chains,
-                             iter = iter, warmup = warmup, seed = seed,
-                             cores = min(cores, chains), control = control, ...)
+  x_pred <- if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at")
+  stan_data <- koh_stan_data(data, priors, x_pred)
+  stanfit <- muffle_rstan_diagnostics(
+    rstan::sampling(stanmodels$koh, data = stan_data, chains = chains,
+                    iter = iter, warmup = warmup, seed = seed,
+                    cores = min(cores, chains), control = control, ...)
+  )
   if (stanfit@mode != 0L) {
     abort_bayesbem(c("Stan could not sample the model.",
                      i = "Rerun with {.code refresh = 1} to see Stan's messages."),
                    "sampling")
   }
-  new_koh_fit(stanfit, data = data, priors = priors,
-              settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed))
+  fit <- new_koh_fit(stanfit, data = data, priors = priors,
+                     settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed),
+                     predict_at = if (!is.null(predict_at)) predict_at[data$names$x])
+  check_convergence(fit)
+  fit
 }
 
-new_koh_fit <- function(stanfit, data, priors, settings) {
-  structure(list(stanfit = stanfit, data = data, priors = priors, settings = settings),
+# rstan's own convergence warnings are unclassed; check_convergence() reports
+# the same problems with a class and a hint, so those are muffled here.
+muffle_rstan_diagnostics <- function(expr) {
+  pattern <- paste("divergent transition|maximum treedepth|R-hat|Effective Samples Size",
+                   "BFMI|pairs\\(\\) plot|chains have not mixed", sep = "|")
+  withCallingHandlers(expr, warning = function(w) {
+    if (grepl(pattern, conditionMessage(w))) invokeRestart("muffleWarning")
+  })
+}
+
+new_koh_fit <- function(stanfit, data, priors, settings, predict_at = NULL) {
+  structure(list(stanfit = stanfit, data = data, priors = priors, settings = settings,
+                 predict_at = predict_at),
             class = "koh_fit")
 }
 
@@ -153,14 +175,9 @@ summary.koh_fit <- function(object, ...) {
          hyperparameters = s[!is_tf, , drop = FALSE],
          data = object$data[c("n", "m", "p", "q")],
          settings = object$settings,
-         stanfit_info = sampler_info(object$stanfit)),
+         sampler = sampler_diagnostics(object$stanfit)),
     class = "summary.koh_fit"
   )
-}
-
-sampler_info <- function(stanfit) {
-  sp <- rstan::get_sampler_params(stanfit, inc_warmup = FALSE)
-  list(divergent = sum(vapply(sp, function(s) sum(s[, "divergent__"]), numeric(1))))
 }
 
 #' @rdname summary.koh_fit
@@ -171,7 +188,7 @@ print.summary.koh_fit <- function(x, digits = 3, ...) {
   cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters\n",
               x$data$n, x$data$m, x$data$p, x$data$q))
   cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions\n\n",
-              st$chains, st$iter, st$warmup, st$seed, x$stanfit_info$divergent))
+              st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent))
   cat("Calibration parameters (physical units):\n")
   print_summary_table(x$parameters, digits)
   cat("\nGaussian-process hyperparameters (standardised scale):\n")

@@ -144,7 +144,8 @@ print.koh_priors <- function(x, ...) {
 
 # The data block of inst/stan/koh.stan for given data and priors; checks that
 # every tf prior names a parameter and that its mean lies in the design range.
-koh_stan_data <- function(data, priors, call = rlang::caller_env()) {
+# `x_pred`: scaled inputs whose outputs Stan samples (the paper's Appendix D).
+koh_stan_data <- function(data, priors, x_pred = NULL, call = rlang::caller_env()) {
   t_names <- data$names$t
   unknown <- setdiff(names(priors$tf), t_names)
   if (length(unknown) > 0L) {
@@ -179,6 +180,8 @@ koh_stan_data <- function(data, priors, call = rlang::caller_env()) {
     lambda_eta_shape = priors$lambda_eta[1], lambda_eta_rate = priors$lambda_eta[2],
     lambda_delta_shape = priors$lambda_delta[1], lambda_delta_rate = priors$lambda_delta[2],
     lambda_e_shape = priors$lambda_e[1], lambda_e_rate = priors$lambda_e[2],
-    nugget = priors$nugget
+    nugget = priors$nugget,
+    n_pred = NROW(x_pred),
+    x_pred = if (is.null(x_pred)) matrix(0, 0, data$p) else x_pred
   )
 }

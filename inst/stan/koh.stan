@@ -29,13 +29,18 @@ data {
   real<lower=0> lambda_e_shape;
   real<lower=0> lambda_e_rate;
   real<lower=0> nugget;                  // added to Sigma_eta's diagonal
+  // inputs whose outputs are sampled as parameters (the paper's Appendix D);
+  // n_pred = 0 leaves the model unchanged
+  int<lower=0> n_pred;
+  matrix[n_pred, p] x_pred;
 }
 transformed data {
-  vector[n + m] z = append_row(y, eta);
-  vector[n + m] zero = rep_vector(0, n + m);
+  int n_all = n + n_pred;                // field block: observed rows, then predicted rows
+  matrix[n_all, p] xf_all = append_row(xf, x_pred);
+  vector[n_all + m] zero = rep_vector(0, n_all + m);
   // squared input differences, computed once (see neg_sqdist)
-  matrix[n * n, p + 1] nd2_ff = neg_sqdist(xf, xf);
-  matrix[n * m, p + 1] nd2_fc = neg_sqdist(xf, xc);
+  matrix[n_all * n_all, p + 1] nd2_ff = neg_sqdist(xf_all, xf_all);
+  matrix[n_all * m, p + 1] nd2_fc = neg_sqdist(xf_all, xc);
   matrix[m * m, p + q + 1] nd2_cc = neg_sqdist(append_col(xc, tc), append_col(xc, tc));
 }
 parameters {
@@ -45,6 +50,7 @@ parameters {
   real<lower=0> lambda_eta;              // precision of the emulator
   real<lower=0> lambda_delta;            // precision of the discrepancy
   real<lower=0> lambda_e;                // precision of the observation error
+  vector[n_pred] y_pred;                 // field outputs at x_pred, noise included
 }
 transformed parameters {
   // rho = exp(-beta / 4)
@@ -52,7 +58,8 @@ transformed parameters {
   vector[p] beta_delta = -4 * log(rho_delta);
 }
 model {
-  matrix[n + m, n + m] sigma_z = koh_cov(nd2_ff, nd2_fc, nd2_cc, tc, tf', beta_eta, beta_delta,
+  vector[n_all + m] z = append_row(append_row(y, y_pred), eta);
+  matrix[n_all + m, n_all + m] sigma_z = koh_cov(nd2_ff, nd2_fc, nd2_cc, tc, tf', beta_eta, beta_delta,
                                          lambda_eta, lambda_delta, lambda_e, nugget);
   target += beta_lpdf(rho_eta | rho_eta_a, rho_eta_b);
   target += beta_lpdf(rho_delta | rho_delta_a, rho_delta_b);

@@ -1,11 +1,16 @@
-# One small seeded fit of the shipped case study, made once per test run and
-# shared by every test that needs a fitted model.
+# One small seeded fit of the case study, made once per test run and shared
+# by every test that needs a fitted model. Three field months are also
+# predicted inside Stan (the paper's Appendix D) to compare the two routes.
+shared_predict_at <- function() seb_field[c(1, 6, 11), c("temp", "rh", "solar")]
+
 shared_fit <- local({
   fit <- NULL
   function() {
     if (is.null(fit)) {
-      fit <<- calibrate(seb_field, seb_sim, chains = 2, iter = 1000, seed = 20180601,
-                        cores = 2, refresh = 0)
+      fit <<- suppressWarnings(
+        calibrate(seb_field, seb_sim, chains = 2, iter = 1000, seed = 20180601, cores = 2,
+                  refresh = 0, predict_at = shared_predict_at()),
+        classes = "bayesbem_warning_convergence")
     }
     fit
   }

@@ -3,6 +3,10 @@
 # chol(), and the priors with R's own density functions. Tests compare the
 # Stan program against it.
 reference_log_density <- function(sd, pars) {
+  # predicted outputs (the paper's Appendix D) are field rows with unknown y
+  sd$xf <- rbind(sd$xf, sd$x_pred)
+  sd$y <- c(sd$y, pars$y_pred)
+  sd$n <- sd$n + sd$n_pred
   n <- sd$n
   m <- sd$m
   N <- n + m
@@ -44,6 +48,7 @@ reference_log_density <- function(sd, pars) {
 
 random_koh_pars <- function(sd) {
   list(tf = as.array(stats::runif(sd$q)),
+       y_pred = as.array(stats::rnorm(sd$n_pred)),
        rho_eta = as.array(stats::runif(sd$p + sd$q, 0.3, 0.99)),
        rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
        lambda_eta = stats::rgamma(1, 10, 10),
@@ -60,4 +65,52 @@ koh_model_for <- function(sd) {
 # Stan's log density (priors included, no Jacobian) at constrained `pars`.
 stan_log_density <- function(model, pars) {
   rstan::log_prob(model, rstan::unconstrain_pars(model, pars), adjust_transform = FALSE)
+}
+
+# Brute-force conditional of (eta(x_new, tf), delta(x_new)) given z: the
+# joint covariance of (z, eta_new, delta_new) filled element by element,
+# conditioned with solve(). `x_new` is on the scaled input range.
+reference_conditional <- function(sd, pars, x_new) {
+  n <- sd$n
+  m <- sd$m
+  k <- nrow(x_new)
+  tf_rows <- function(x) cbind(x, matrix(pars$tf, nrow(x), sd$q, byrow = TRUE))
+  # every variable: its (x, t) row, whether it carries eta, delta, noise, nugget
+  u <- rbind(tf_rows(sd$xf), cbind(sd$xc, sd$tc), tf_rows(x_new), tf_rows(x_new))
+  has_eta <- c(rep(TRUE, n + m + k), rep(FALSE, k))
+  has_delta <- c(rep(TRUE, n), rep(FALSE, m + k), rep(TRUE, k))
+  is_train <- c(rep(TRUE, n + m), rep(FALSE, 2 * k))
+  is_field <- c(rep(TRUE, n), rep(FALSE, m + 2 * k))
+  beta_eta <- -4 * log(pars$rho_eta)
+  beta_delta <- -4 * log(pars$rho_delta)
+  total <- n + m + 2 * k
+  cov <- matrix(0, total, total)
+  for (i in seq_len(total)) {
+    for (j in seq_len(total)) {
+      v <- 0
+      if (has_eta[i] && has_eta[j]) {
+        v <- v + exp(-sum(beta_eta * (u[i, ] - u[j, ])^2)) / pars$lambda_eta
+      }
+      if (has_delta[i] && has_delta[j]) {
+        xi <- u[i, seq_len(sd$p)]
+        xj <- u[j, seq_len(sd$p)]
+        v <- v + exp(-sum(beta_delta * (xi - xj)^2)) / pars$lambda_delta
+      }
+      if (i == j && is_train[i]) v <- v + sd$nugget
+      if (i == j && is_field[i]) v <- v + 1 / pars$lambda_e
+      cov[i, j] <- v
+    }
+  }
+  train <- seq_len(n + m)
+  new <- n + m + seq_len(2 * k)
+  z <- c(sd$y, sd$eta)
+  list(mean = drop(cov[new, train] %*% solve(cov[train, train], z)),
+       cov = cov[new, new] - cov[new, train] %*% solve(cov[train, train], cov[train, new]))
+}
+
+# The same parameters in the form R's prediction code takes.
+as_draw_pars <- function(pars, nugget) {
+  list(tf = pars$tf, beta_eta = -4 * log(pars$rho_eta), beta_delta = -4 * log(pars$rho_delta),
+       lambda_eta = pars$lambda_eta, lambda_delta = pars$lambda_delta,
+       lambda_e = pars$lambda_e, nugget = nugget)
 }

@@ -12,7 +12,7 @@ test_that("the Stan log density equals the method's, computed independently in R
   }
 })
 
-test_that("the Stan log density matches on a random problem with other sizes", {
+test_that("the Stan log density matches on other sizes, with outputs sampled in Stan", {
   skip_on_cran()
   withr::local_seed(7)
   n <- 5
@@ -25,7 +25,8 @@ test_that("the Stan log density matches on a random problem with other sizes", {
   field <- data.frame(y = rnorm(n, 5), x)
   d <- koh_data(field, sim)
   sd <- bayesbem:::koh_stan_data(d, koh_priors(tf = list(k2 = prior_normal(12, 0.05)),
-                                               nugget = 1e-4))
+                                               nugget = 1e-4),
+                                 x_pred = matrix(runif(4), 2, 2))
   model <- koh_model_for(sd)
   for (i in 1:3) {
     pars <- random_koh_pars(sd)

@@ -1,0 +1,98 @@
+#' Convergence diagnostics of a KOH fit
+#'
+#' Computes, for every parameter (calibration parameters in physical units,
+#' GP hyperparameters), the rank-normalised split R-hat and the bulk and tail
+#' effective sample sizes of the posterior package, and from the sampler the
+#' number of divergent transitions, of iterations that hit the maximum tree
+#' depth, and the E-BFMI of each chain. Raises one warning of class
+#' `bayesbem_warning_convergence`, with a plain-language hint, when any
+#' R-hat is at least `rhat_max`, any ESS is below `ess_min`, or any
+#' transition diverged; [calibrate()] calls it at the end of every fit.
+#'
+#' @param fit A `koh_fit`.
+#' @param rhat_max R-hat at or above which a parameter has not converged.
+#' @param ess_min Smallest acceptable bulk and tail ESS; by default 100 per
+#'   chain (400 for 4 chains).
+#' @param warn Raise the warning (`TRUE`) or only return the table.
+#' @return A data frame of class `koh_convergence` with columns `variable`,
+#'   `rhat`, `ess_bulk`, `ess_tail` and `ok`, and an attribute `sampler`: a
+#'   list with `divergent`, `treedepth_hits`, `max_treedepth` and `ebfmi`
+#'   (one per chain).
+#' @family diagnostics
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
+#' check_convergence(fit, warn = FALSE)
+#' }
+check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, warn = TRUE) {
+  draws <- as_draws_array.koh_fit(fit)
+  draws <- posterior::subset_draws(draws, variable = setdiff(posterior::variables(draws), "lp__"))
+  ess_min <- ess_min %||% (100 * posterior::nchains(draws))
+  s <- posterior::summarise_draws(draws, rhat = posterior::rhat,
+                                  ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail)
+  s <- as.data.frame(lapply(s, function(col) as.vector(unclass(col))))
+  s$ok <- s$rhat < rhat_max & s$ess_bulk >= ess_min & s$ess_tail >= ess_min
+  sampler <- sampler_diagnostics(fit$stanfit)
+  out <- structure(s, class = c("koh_convergence", "data.frame"), sampler = sampler,
+                   thresholds = list(rhat_max = rhat_max, ess_min = ess_min))
+  if (warn) warn_convergence(out)
+  out
+}
+
+sampler_diagnostics <- function(stanfit) {
+  sp <- rstan::get_sampler_params(stanfit, inc_warmup = FALSE)
+  max_td <- stanfit@stan_args[[1]]$control$max_treedepth %||% 10
+  list(divergent = sum(vapply(sp, function(s) sum(s[, "divergent__"]), numeric(1))),
+       treedepth_hits = sum(vapply(sp, function(s) sum(s[, "treedepth__"] >= max_td), numeric(1))),
+       max_treedepth = max_td,
+       ebfmi = vapply(sp, function(s) {
+         e <- s[, "energy__"]
+         sum(diff(e)^2) / sum((e - mean(e))^2)
+       }, numeric(1)))
+}
+
+warn_convergence <- function(conv) {
+  th <- attr(conv, "thresholds")
+  sp <- attr(conv, "sampler")
+  problems <- character()
+  high_rhat <- conv$variable[conv$rhat >= th$rhat_max]
+  if (length(high_rhat) > 0L) {
+    problems <- c(problems, x = cli::format_inline(
+      "R-hat >= {th$rhat_max} for {.field {high_rhat}}: the chains disagree."))
+  }
+  low_ess <- conv$variable[pmin(conv$ess_bulk, conv$ess_tail) < th$ess_min]
+  if (length(low_ess) > 0L) {
+    problems <- c(problems, x = cli::format_inline(
+      "Bulk or tail ESS < {th$ess_min} for {.field {low_ess}}: too few effective draws."))
+  }
+  if (sp$divergent > 0L) {
+    problems <- c(problems, x = cli::format_inline(
+      "{sp$divergent} divergent transition{?s}: the sampler missed part of the posterior."))
+  }
+  if (length(problems) == 0L) {
+    return(invisible(conv))
+  }
+  hint <- c(i = paste("Run more iterations (e.g. {.code iter = 2000}) and, for divergences,",
+                      "raise {.code control = list(adapt_delta = 0.95)}; check",
+                      "{.code plot(fit, type = \"trace\")}."))
+  warn_bayesbem(c("The calibration may not have converged.", problems, hint), "convergence")
+  invisible(conv)
+}
+
+#' @export
+print.koh_convergence <- function(x, digits = 3, ...) {
+  sp <- attr(x, "sampler")
+  th <- attr(x, "thresholds")
+  cat(sprintf("Convergence: R-hat < %s and bulk/tail ESS >= %d for %d of %d parameters\n",
+              th$rhat_max, th$ess_min, sum(x$ok), nrow(x)))
+  cat(sprintf("Sampler: %d divergent transitions; %d iterations at max tree depth %d; E-BFMI %s\n\n",
+              sp$divergent, sp$treedepth_hits, sp$max_treedepth,
+              paste(format(sp$ebfmi, digits = 2), collapse = ", ")))
+  out <- as.data.frame(unclass(x))
+  out$rhat <- round(out$rhat, 3)
+  out$ess_bulk <- round(out$ess_bulk)
+  out$ess_tail <- round(out$ess_tail)
+  print(out, row.names = FALSE)
+  invisible(x)
+}

@@ -1,0 +1,91 @@
+#' ASHRAE Guideline 14 goodness-of-fit metrics
+#'
+#' `cvrmse()` is the coefficient of variation of the root mean squared error
+#' and `nmbe()` the normalised mean bias error, both in percent, with `n - 1`
+#' in the denominator as in ASHRAE Guideline 14 (and Chong & Menberg 2018):
+#'
+#' `CVRMSE = 100 * sqrt(sum((pred - obs)^2) / (n - 1)) / mean(obs)`
+#'
+#' `NMBE = 100 * sum(pred - obs) / ((n - 1) * mean(obs))`
+#'
+#' A positive NMBE means the predictions are too high on average.
+#'
+#' @param obs Observed values.
+#' @param pred Predicted values, the same length as `obs`.
+#' @return One number, in percent.
+#' @family metrics
+#' @export
+#' @examples
+#' obs <- c(100, 110, 120)
+#' cvrmse(obs, c(101, 108, 123))
+#' nmbe(obs, c(101, 108, 123))
+cvrmse <- function(obs, pred) {
+  check_metric_input(obs, pred)
+  100 * sqrt(sum((pred - obs)^2) / (length(obs) - 1)) / mean(obs)
+}
+
+#' @rdname cvrmse
+#' @export
+nmbe <- function(obs, pred) {
+  check_metric_input(obs, pred)
+  100 * sum(pred - obs) / ((length(obs) - 1) * mean(obs))
+}
+
+check_metric_input <- function(obs, pred, call = rlang::caller_env()) {
+  if (!is.numeric(obs) || !is.numeric(pred) || length(obs) != length(pred) ||
+      length(obs) < 2L || anyNA(obs) || anyNA(pred)) {
+    abort_bayesbem(c("{.arg obs} and {.arg pred} must be numeric vectors of the same length (at least 2), without missing values.",
+                     x = "They have lengths {length(obs)} and {length(pred)}."),
+                   "argument", call = call)
+  }
+}
+
+#' Calibration metrics of a KOH fit, with the Guideline 14 verdict
+#'
+#' Compares the calibrated predictions (posterior mean of `eta + delta`)
+#' with the measured data: the training data, and held-out data when given.
+#' ASHRAE Guideline 14 calls a model calibrated at CVRMSE <= 15% and
+#' |NMBE| <= 5% for monthly data, and 30% and 10% for hourly data.
+#'
+#' @param fit A `koh_fit`.
+#' @param newdata Held-out observable inputs (a data frame with the field
+#'   inputs' columns), or `NULL` for training data only.
+#' @param obs Measured outputs at `newdata`.
+#' @param frequency `"monthly"` or `"hourly"`: which Guideline 14 limits apply.
+#' @param ndraws Number of posterior draws to use (all by default).
+#' @return A data frame with one row per data set (`training`, `held-out`):
+#'   `n`, `cvrmse`, `nmbe` (percent) and `calibrated` (logical).
+#' @family metrics
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 1)
+#' calibration_metrics(fit)
+#' }
+calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
+                                frequency = c("monthly", "hourly"), ndraws = NULL) {
+  frequency <- match.arg(frequency)
+  if (xor(is.null(newdata), is.null(obs))) {
+    abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
+                   "argument")
+  }
+  sets <- list(training = list(x = field_inputs(fit$data), obs = fit$data$field[[fit$data$names$y]]))
+  if (!is.null(newdata)) {
+    if (!is.numeric(obs) || length(obs) != NROW(newdata)) {
+      abort_bayesbem(c("{.arg obs} must be numeric with one value per row of {.arg newdata}.",
+                       x = "It has {length(obs)} value{?s} for {NROW(newdata)} row{?s}."),
+                     "argument")
+    }
+    sets[["held-out"]] <- list(x = newdata, obs = obs)
+  }
+  limits <- switch(frequency, monthly = c(15, 5), hourly = c(30, 10))
+  rows <- lapply(names(sets), function(set) {
+    pred <- colMeans(predict_draws(fit, sets[[set]]$x, ndraws = ndraws)$y)
+    obs <- sets[[set]]$obs
+    cv <- cvrmse(obs, pred)
+    nb <- nmbe(obs, pred)
+    data.frame(set = set, n = length(obs), cvrmse = cv, nmbe = nb,
+               calibrated = cv <= limits[1] && abs(nb) <= limits[2])
+  })
+  do.call(rbind, rows)
+}

@@ -1,0 +1,142 @@
+#' Calibrated predictions of a KOH fit
+#'
+#' Predicts at new observable inputs, in physical units:
+#' * `type = "y"`: the calibrated prediction `eta(x, tf) + delta(x)`, plus
+#'   observation noise when `noise = TRUE`;
+#' * `type = "eta"`: the simulator part `eta(x, tf)` alone (the emulator at
+#'   the calibrated parameters);
+#' * `type = "delta"`: the model discrepancy `delta(x)` alone.
+#'
+#' With `method = "conditional"` (the default), each posterior draw of `tf`
+#' and the hyperparameters gives the exact Gaussian conditional of
+#' `(eta, delta)` at the new inputs given all field and simulation data
+#' (mean `S21 S11^-1 z`, covariance `S22 - S21 S11^-1 S12`, one Cholesky
+#' factor per draw), from which one joint sample is drawn; so for every draw
+#' the `"y"` value is exactly the `"eta"` value plus the `"delta"` value
+#' (plus noise). Sampling uses R's random number generator: call
+#' [set.seed()] first for reproducible draws.
+#'
+#' With `method = "sampled"`, the predictions sampled inside Stan are
+#' returned (the paper's Appendix D): they exist only for the inputs given to
+#' [calibrate()] as `predict_at`, and include observation noise.
+#'
+#' @param object A `koh_fit`.
+#' @param newdata A data frame with the observable inputs (the field inputs'
+#'   column names); defaults to the field inputs. Inputs outside the range
+#'   the model was calibrated on get a warning (extrapolation).
+#' @param type One of `"y"`, `"eta"` or `"delta"`.
+#' @param ndraws Number of posterior draws to use (evenly spaced); all by
+#'   default.
+#' @param summary If `TRUE`, a data frame of summaries; if `FALSE`, a matrix
+#'   of draws (rows) by points (columns).
+#' @param noise Add observation noise `N(0, 1/lambda_e)` to `type = "y"`.
+#' @param method `"conditional"` or `"sampled"` (see Details).
+#' @param probs Quantiles reported when `summary = TRUE`.
+#' @param ... Unused.
+#' @return A data frame with the inputs, `mean`, `sd` and one column per
+#'   quantile (`q5`, `q50`, `q95` by default), or a draws-by-points matrix.
+#' @family prediction
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 1)
+#' predict(fit)
+#' predict(fit, type = "delta", ndraws = 50)
+#' }
+predict.koh_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"),
+                            ndraws = NULL, summary = TRUE, noise = FALSE,
+                            method = c("conditional", "sampled"),
+                            probs = c(0.05, 0.5, 0.95), ...) {
+  type <- match.arg(type)
+  method <- match.arg(method)
+  if (method == "sampled") {
+    draws <- sampled_predictions(object, newdata, type)
+    newdata <- object$predict_at
+  } else {
+    newdata <- newdata %||% field_inputs(object$data)
+    draws <- predict_draws(object, newdata, ndraws = ndraws, noise = noise)[[type]]
+  }
+  if (!summary) {
+    return(draws)
+  }
+  summarise_columns(draws, newdata[object$data$names$x], probs)
+}
+
+# Draws (rows) by points (columns) of y, eta and delta in physical units,
+# sampled jointly per posterior draw so that y = eta + delta (+ noise).
+predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE) {
+  data <- fit$data
+  g <- gp_geometry(data, scale_newdata(data, newdata))
+  pars <- draw_parameters(fit, ndraws)
+  n_new <- nrow(newdata)
+  joint <- vapply(pars, function(par) {
+    cond <- koh_conditional(g, par)
+    rmvnorm_psd(cond$mean, cond$cov)
+  }, numeric(2 * n_new))
+  joint <- matrix(joint, nrow = 2 * n_new)
+  eta <- t(joint[seq_len(n_new), , drop = FALSE])
+  delta <- t(joint[n_new + seq_len(n_new), , drop = FALSE])
+  y <- eta + delta
+  if (noise) {
+    sd_e <- 1 / sqrt(vapply(pars, `[[`, numeric(1), "lambda_e"))
+    y <- y + matrix(stats::rnorm(length(y), sd = sd_e), nrow(y))
+  }
+  s <- data$scaling
+  list(y = unscale_y(y, s), eta = unscale_y(eta, s), delta = unscale_y_spread(delta, s))
+}
+
+sampled_predictions <- function(fit, newdata, type, call = rlang::caller_env()) {
+  if (is.null(fit$predict_at)) {
+    abort_bayesbem(c("This fit has no predictions sampled in Stan.",
+                     i = "Calibrate with {.code predict_at = <data frame of inputs>}, or use {.code method = \"conditional\"}."),
+                   "argument", call = call)
+  }
+  if (!is.null(newdata) || type != "y") {
+    abort_bayesbem(c("{.code method = \"sampled\"} gives {.code type = \"y\"} at the fit's {.arg predict_at} inputs only.",
+                     i = "Leave {.arg newdata} empty, or use {.code method = \"conditional\"}."),
+                   "argument", call = call)
+  }
+  unscale_y(as.matrix(fit$stanfit, pars = "y_pred"), fit$data$scaling)
+}
+
+field_inputs <- function(data) {
+  data$field[data$names$x]
+}
+
+# Checks new observable inputs, warns on extrapolation, and scales them.
+scale_newdata <- function(data, newdata, arg = "newdata", call = rlang::caller_env()) {
+  x_names <- data$names$x
+  if (!is.data.frame(newdata)) {
+    abort_bayesbem(c("{.arg {arg}} must be a data frame with columns {.field {x_names}}.",
+                     x = "It is {.obj_type_friendly {newdata}}."),
+                   "input_type", call = call)
+  }
+  missing <- setdiff(x_names, names(newdata))
+  if (length(missing) > 0L) {
+    abort_bayesbem(c("{.arg {arg}} has no column{?s} {.field {missing}}.",
+                     i = "It needs the observable inputs the model was calibrated on: {.field {x_names}}."),
+                   "columns", call = call)
+  }
+  if (nrow(newdata) < 1L) {
+    abort_bayesbem("{.arg {arg}} has no rows.", "too_few_rows", call = call)
+  }
+  check_numeric_complete(newdata, x_names, arg, call = call)
+  x <- as.matrix(newdata[x_names])
+  s <- data$scaling
+  outside <- x_names[colSums(sweep(x, 2, s$x_min, "<") | sweep(x, 2, s$x_max, ">")) > 0]
+  if (length(outside) > 0L) {
+    warn_bayesbem(c("{.arg {arg}} is outside the range the model was calibrated on in {.field {outside}}.",
+                    i = "These predictions extrapolate the Gaussian processes; expect them to revert to the mean."),
+                  "extrapolation")
+  }
+  scale_x(x, s)
+}
+
+# Data frame of `inputs` with mean, sd and quantiles of each column of `draws`.
+summarise_columns <- function(draws, inputs, probs) {
+  q <- t(apply(draws, 2, stats::quantile, probs = probs, names = FALSE))
+  colnames(q) <- paste0("q", signif(100 * probs, 3))
+  out <- data.frame(inputs, mean = colMeans(draws), sd = apply(draws, 2, stats::sd),
+                    q, row.names = NULL)
+  out
+}

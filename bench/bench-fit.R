@@ -1,0 +1,56 @@
+# Benchmark: the package's KOH program against a naive element-wise program
+# written like the paper's listing, on the shipped case study, in the same run.
+# Times compilation, warm-up and sampling, and the minimum bulk ESS per second
+# over tf and the GP hyperparameters. One chain of 500 iterations (250 warm-up)
+# per seed, as the issue asks; several seeds because one chain's ESS is noisy.
+# Usage, from the package root, with bayesbem installed:
+#   Rscript bench/bench-fit.R [seeds]
+suppressPackageStartupMessages(library(bayesbem))
+args <- commandArgs(trailingOnly = TRUE)
+seeds <- if (length(args) > 0) seq_len(as.integer(args[1])) else 1:3
+rstan::rstan_options(auto_write = FALSE)
+
+stan_data <- bayesbem:::koh_stan_data(koh_data(seb_field, seb_sim), koh_priors())
+include_dir <- system.file("stan", package = "bayesbem")
+
+compile <- function(file) {
+  t <- system.time(model <- rstan::stan_model(file, isystem = include_dir))[["elapsed"]]
+  list(model = model, compile = t)
+}
+programs <- list(
+  package = compile(file.path(include_dir, "koh.stan")),
+  naive = compile("bench/naive_koh.stan")
+)
+
+min_ess_per_s <- function(fit) {
+  draws <- posterior::as_draws_array(as.array(fit, pars = c("tf", "beta_eta", "beta_delta",
+                                                            "lambda_eta", "lambda_delta",
+                                                            "lambda_e")))
+  ess <- posterior::summarise_draws(draws, posterior::ess_bulk)$`posterior::ess_bulk`
+  times <- rstan::get_elapsed_time(fit)
+  c(warmup = times[, "warmup"], sampling = times[, "sample"], min_ess = min(ess),
+    min_ess_per_s = min(ess) / times[, "sample"],
+    min_ess_per_s_total = min(ess) / sum(times))
+}
+
+rows <- list()
+for (name in names(programs)) {
+  for (seed in seeds) {
+    fit <- rstan::sampling(programs[[name]]$model, data = stan_data, chains = 1, iter = 500,
+                           seed = seed, refresh = 0, control = list(adapt_delta = 0.9))
+    rows[[length(rows) + 1]] <- data.frame(program = name, seed = seed,
+                                           compile_s = programs[[name]]$compile,
+                                           t(min_ess_per_s(fit)))
+  }
+}
+res <- do.call(rbind, rows)
+cat("\nPer run (1 chain x 500 iterations, adapt_delta = 0.9):\n")
+print(res, digits = 3, row.names = FALSE)
+agg <- aggregate(cbind(warmup, sampling, min_ess, min_ess_per_s, min_ess_per_s_total) ~ program,
+                 data = res, FUN = mean)
+cat("\nMean over seeds:\n")
+print(agg, digits = 3, row.names = FALSE)
+ratio <- agg$min_ess_per_s[agg$program == "package"] / agg$min_ess_per_s[agg$program == "naive"]
+cat(sprintf("\nmin bulk-ESS/s, package / naive: %.1fx (target >= 10x)\n", ratio))
+cat(sprintf("machine: %s, %d cores; R %s; rstan %s; %s\n", Sys.info()[["nodename"]],
+            parallel::detectCores(), getRversion(), packageVersion("rstan"), Sys.Date()))
