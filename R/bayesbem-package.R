@@ -31,7 +31,7 @@
 #' @import Rcpp
 #' @importFrom rstan sampling
 #' @importFrom RcppParallel RcppParallelLibs
-#' @importFrom rlang %||%
+#' @importFrom rlang %||% .data
 #' @importFrom rstantools rstan_config
 #' @importFrom parallel detectCores
 "_PACKAGE"

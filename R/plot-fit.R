@@ -1,0 +1,43 @@
+#' Plot a KOH fit
+#'
+#' The default plot of a calibration: the posteriors of the calibration
+#' parameters against their priors. Other types give the trace plots, the
+#' calibrated predictions against the measured data, and the paper's
+#' three-panel comparison of `eta + delta`, `eta` and `delta / y`.
+#'
+#' @param x A `koh_fit`.
+#' @param type One of `"posteriors"` ([plot_posteriors()]), `"trace"`
+#'   ([plot_trace()]), `"predictions"` ([plot_predictions()]) or
+#'   `"components"` ([plot_components()]).
+#' @param ... Passed to the plotting function.
+#' @return A ggplot.
+#' @family plots
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
+#' plot(fit)
+#' plot(fit, type = "trace")
+#' }
+plot.koh_fit <- function(x, type = c("posteriors", "trace", "predictions", "components"), ...) {
+  type <- match.arg(type)
+  switch(type,
+         posteriors = plot_posteriors(x, ...),
+         trace = plot_trace(x, ...),
+         predictions = plot_predictions(x, ...),
+         components = plot_components(x, ...))
+}
+
+# Box-plot statistics of each column of a draws matrix: whiskers at the 5 %
+# and 95 % quantiles, box at the quartiles.
+box_stats <- function(draws) {
+  q <- t(apply(draws, 2, stats::quantile, probs = c(0.05, 0.25, 0.5, 0.75, 0.95), names = FALSE))
+  data.frame(q5 = q[, 1], q25 = q[, 2], q50 = q[, 3], q75 = q[, 4], q95 = q[, 5])
+}
+
+geom_quantile_box <- function(mapping, ...) {
+  ggplot2::geom_boxplot(
+    mapping = ggplot2::aes(ymin = .data$q5, lower = .data$q25, middle = .data$q50,
+                           upper = .data$q75, ymax = .data$q95),
+    stat = "identity", ...)
+}

@@ -1,0 +1,61 @@
+#' Posteriors of the calibration parameters against their priors
+#'
+#' The paper's Fig 5: the posterior density of each calibration parameter in
+#' its physical units, with the prior density overlaid (flat, or the
+#' truncated normal of an informative prior), over the design range.
+#'
+#' @param fit A `koh_fit`.
+#' @param n_grid Number of points at which densities are evaluated.
+#' @return `plot_posteriors()`: a ggplot. `plot_posteriors_data()`: a data
+#'   frame with columns `parameter`, `value`, `density` and `curve`
+#'   (`"posterior"` or `"prior"`).
+#' @family plots
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
+#' plot_posteriors(fit)
+#' head(plot_posteriors_data(fit))
+#' }
+plot_posteriors <- function(fit, n_grid = 200) {
+  d <- plot_posteriors_data(fit, n_grid)
+  ggplot2::ggplot(d, ggplot2::aes(.data$value, .data$density, colour = .data$curve,
+                                  linetype = .data$curve)) +
+    ggplot2::geom_line() +
+    ggplot2::facet_wrap(ggplot2::vars(.data$parameter), scales = "free") +
+    ggplot2::scale_colour_manual(values = c(posterior = "#1b6ca8", prior = "grey45")) +
+    ggplot2::scale_linetype_manual(values = c(posterior = "solid", prior = "dashed")) +
+    ggplot2::labs(x = "value (physical units)", y = "density", colour = NULL, linetype = NULL) +
+    ggplot2::theme_bw() +
+    ggplot2::theme(legend.position = "bottom")
+}
+
+#' @rdname plot_posteriors
+#' @export
+plot_posteriors_data <- function(fit, n_grid = 200) {
+  data <- fit$data
+  draws <- posterior::as_draws_matrix(as_draws_array.koh_fit(fit))
+  rows <- lapply(seq_len(data$q), function(k) {
+    name <- data$names$t[k]
+    lo <- data$scaling$t_min[[k]]
+    hi <- data$scaling$t_max[[k]]
+    post <- stats::density(as.vector(draws[, name]), from = lo, to = hi, n = n_grid)
+    prior <- prior_density(fit$priors$tf[[name]], post$x, lo, hi)
+    data.frame(parameter = name, value = c(post$x, post$x),
+               density = c(post$y, prior),
+               curve = rep(c("posterior", "prior"), each = n_grid))
+  })
+  out <- do.call(rbind, rows)
+  out$parameter <- factor(out$parameter, levels = data$names$t)
+  out
+}
+
+# Prior density in physical units over [lo, hi] (flat when no prior is given).
+prior_density <- function(prior, value, lo, hi) {
+  if (is.null(prior) || prior$family == "uniform") {
+    return(rep(1 / (hi - lo), length(value)))
+  }
+  mu <- (prior$mu - lo) / (hi - lo)
+  mass <- stats::pnorm(1, mu, prior$sd) - stats::pnorm(0, mu, prior$sd)
+  stats::dnorm((value - lo) / (hi - lo), mu, prior$sd) / mass / (hi - lo)
+}

@@ -1,0 +1,132 @@
+#' Calibrated predictions against the measured data
+#'
+#' Box plots (box: quartiles; whiskers: 5 % and 95 % quantiles) of the
+#' posterior draws of the calibrated prediction `eta(x, tf) + delta(x)` at
+#' each point, with the measured values as points, one panel per observable
+#' input (the paper's Listing 1 loop).
+#'
+#' @param fit A `koh_fit`.
+#' @param newdata Observable inputs to predict at (default: the field
+#'   inputs).
+#' @param obs Measured outputs at `newdata` (default: the field outputs when
+#'   `newdata` is `NULL`, otherwise none).
+#' @param ndraws Number of posterior draws to use (all by default).
+#' @return `plot_predictions()`: a ggplot. `plot_predictions_data()`: a data
+#'   frame with one row per point and input: `point`, `input`, `x`, `width`
+#'   (box width), the box statistics `q5`, `q25`, `q50`, `q75`, `q95`, and
+#'   `obs`.
+#' @family plots
+#' @family prediction
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
+#' plot_predictions(fit, ndraws = 100)
+#' }
+plot_predictions <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
+  d <- plot_predictions_data(fit, newdata, obs, ndraws)
+  ggplot2::ggplot(d, ggplot2::aes(x = .data$x, group = .data$point)) +
+    geom_quantile_box(ggplot2::aes(width = .data$width), fill = "#cfe0ef", colour = "#1b6ca8") +
+    ggplot2::geom_point(ggplot2::aes(y = .data$obs), colour = "#c0392b", na.rm = TRUE) +
+    ggplot2::facet_wrap(ggplot2::vars(.data$input), scales = "free_x") +
+    ggplot2::labs(x = "observable input (physical units)", y = fit$data$names$y,
+                  caption = "boxes: calibrated prediction eta + delta; points: measured") +
+    ggplot2::theme_bw()
+}
+
+#' @rdname plot_predictions
+#' @export
+plot_predictions_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
+  set <- prediction_set(fit, newdata, obs)
+  stats <- box_stats(predict_draws(fit, set$x, ndraws = ndraws)$y)
+  x_names <- fit$data$names$x
+  rows <- lapply(x_names, function(name) {
+    x <- set$x[[name]]
+    data.frame(point = seq_along(x), input = name, x = x,
+               width = 0.04 * max(diff(range(x)), 1e-8),
+               stats, obs = set$obs)
+  })
+  out <- do.call(rbind, rows)
+  out$input <- factor(out$input, levels = x_names)
+  out
+}
+
+#' The three-panel comparison of the paper's Fig 6
+#'
+#' For each point of the training data (and of held-out data when given),
+#' box plots of the posterior draws of three quantities: the calibrated
+#' prediction `eta + delta` against the measured output, the simulator part
+#' `eta` alone against the measured output, and the discrepancy as a share
+#' of the measured output, `100 * delta / y` (percent).
+#'
+#' @inheritParams plot_predictions
+#' @param newdata,obs Held-out observable inputs and their measured outputs,
+#'   both or neither.
+#' @return `plot_components()`: a ggplot. `plot_components_data()`: a data
+#'   frame with `set` (`"training"`, `"held-out"`), `point`, `component`,
+#'   the box statistics `q5` to `q95`, and `obs` (measured output; `NA` for
+#'   the discrepancy panel).
+#' @family plots
+#' @family prediction
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
+#' plot_components(fit, ndraws = 100)
+#' }
+plot_components <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
+  d <- plot_components_data(fit, newdata, obs, ndraws)
+  zero <- data.frame(component = factor(component_labels()[3], levels = component_labels()),
+                     y = 0)
+  ggplot2::ggplot(d, ggplot2::aes(x = .data$point, group = .data$point)) +
+    ggplot2::geom_hline(data = zero, ggplot2::aes(yintercept = .data$y), colour = "grey50") +
+    geom_quantile_box(ggplot2::aes(), width = 0.6, fill = "#cfe0ef", colour = "#1b6ca8") +
+    ggplot2::geom_point(ggplot2::aes(y = .data$obs), colour = "#c0392b", na.rm = TRUE) +
+    ggplot2::facet_grid(ggplot2::vars(.data$component), ggplot2::vars(.data$set),
+                        scales = "free", space = "free_x") +
+    ggplot2::scale_x_continuous(breaks = function(r) seq(ceiling(r[1]), floor(r[2]))) +
+    ggplot2::labs(x = "point", y = NULL,
+                  caption = "boxes: posterior draws; points: measured output") +
+    ggplot2::theme_bw()
+}
+
+#' @rdname plot_components
+#' @export
+plot_components_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
+  if (xor(is.null(newdata), is.null(obs))) {
+    abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
+                   "argument")
+  }
+  sets <- list(training = prediction_set(fit, NULL, NULL))
+  if (!is.null(newdata)) sets[["held-out"]] <- prediction_set(fit, newdata, obs)
+  labels <- component_labels()
+  rows <- lapply(names(sets), function(set) {
+    s <- sets[[set]]
+    draws <- predict_draws(fit, s$x, ndraws = ndraws)
+    share <- 100 * sweep(draws$delta, 2, s$obs, "/")
+    parts <- list(draws$y, draws$eta, share)
+    do.call(rbind, lapply(seq_along(parts), function(i) {
+      data.frame(set = set, point = seq_along(s$obs), component = labels[i],
+                 box_stats(parts[[i]]), obs = if (i < 3) s$obs else NA_real_)
+    }))
+  })
+  out <- do.call(rbind, rows)
+  out$component <- factor(out$component, levels = labels)
+  out$set <- factor(out$set, levels = names(sets))
+  out
+}
+
+component_labels <- function() c("eta + delta", "eta", "delta / y (%)")
+
+# Inputs and measured outputs to compare predictions with.
+prediction_set <- function(fit, newdata, obs, call = rlang::caller_env()) {
+  if (is.null(newdata)) {
+    return(list(x = field_inputs(fit$data), obs = fit$data$field[[fit$data$names$y]]))
+  }
+  if (!is.null(obs) && (!is.numeric(obs) || length(obs) != NROW(newdata))) {
+    abort_bayesbem(c("{.arg obs} must be numeric with one value per row of {.arg newdata}.",
+                     x = "It has {length(obs)} value{?s} for {NROW(newdata)} row{?s}."),
+                   "argument", call = call)
+  }
+  list(x = newdata, obs = obs %||% rep(NA_real_, NROW(newdata)))
+}

@@ -1,0 +1,44 @@
+#' Trace plots of a KOH fit
+#'
+#' The paper's Fig 7: trace plots, one line per chain, of the calibration
+#' parameters (physical units), the correlation parameters `beta_eta` and
+#' `beta_delta`, and the precisions `lambda_eta`, `lambda_delta` and
+#' `lambda_e`, drawn by [bayesplot::mcmc_trace()]. Well-mixed chains look
+#' like stationary noise that overlaps.
+#'
+#' @param fit A `koh_fit`.
+#' @param variables Variables to show (names as in
+#'   `posterior::variables(posterior::as_draws(fit))`); all by default.
+#' @return `plot_trace()`: a ggplot. `plot_trace_data()`: a data frame from
+#'   [bayesplot::mcmc_trace_data()] (`parameter`, `value`, `chain`,
+#'   `iteration`, ...).
+#' @family plots
+#' @family diagnostics
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
+#' plot_trace(fit, variables = c("equipment_power_density", "lambda_e"))
+#' }
+plot_trace <- function(fit, variables = NULL) {
+  bayesplot::mcmc_trace(trace_draws(fit, variables)) +
+    ggplot2::theme_bw()
+}
+
+#' @rdname plot_trace
+#' @export
+plot_trace_data <- function(fit, variables = NULL) {
+  bayesplot::mcmc_trace_data(trace_draws(fit, variables))
+}
+
+trace_draws <- function(fit, variables) {
+  draws <- as_draws_array.koh_fit(fit)
+  variables <- variables %||% setdiff(posterior::variables(draws), "lp__")
+  unknown <- setdiff(variables, posterior::variables(draws))
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("Unknown variable{?s} {.val {unknown}}.",
+                     i = "The fit's variables are {.val {posterior::variables(draws)}}."),
+                   "argument")
+  }
+  posterior::subset_draws(draws, variable = variables)
+}

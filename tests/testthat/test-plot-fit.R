@@ -1,0 +1,10 @@
+test_that("plot() dispatches to each plot type", {
+  skip_on_cran()
+  fit <- shared_fit()
+  expect_s3_class(plot(fit), "ggplot")
+  expect_identical(plot(fit)$labels$y, "density")
+  expect_s3_class(plot(fit, type = "trace"), "ggplot")
+  expect_s3_class(plot(fit, type = "predictions", ndraws = 20), "ggplot")
+  expect_s3_class(plot(fit, type = "components", ndraws = 20), "ggplot")
+  expect_error(plot(fit, type = "pairs"))
+})

@@ -1,0 +1,40 @@
+test_that("plot_predictions_data() has one row per point and input", {
+  skip_on_cran()
+  fit <- shared_fit()
+  withr::local_seed(1)
+  d <- plot_predictions_data(fit, ndraws = 100)
+  expect_equal(nrow(d), 36)
+  expect_equal(levels(d$input), c("temp", "rh", "solar"))
+  expect_equal(d$x[d$input == "rh"], seb_field$rh)
+  expect_equal(d$obs[d$input == "temp"], seb_field$y)
+  expect_true(all(d$q5 <= d$q25 & d$q25 <= d$q50 & d$q50 <= d$q75 & d$q75 <= d$q95))
+})
+
+test_that("plot_components_data() gives eta + delta, eta and delta / y per set", {
+  skip_on_cran()
+  fit <- shared_fit()
+  withr::local_seed(1)
+  d <- plot_components_data(fit, newdata = seb_field[1:2, 2:4], obs = seb_field$y[1:2],
+                            ndraws = 100)
+  expect_equal(levels(d$set), c("training", "held-out"))
+  expect_equal(levels(d$component), c("eta + delta", "eta", "delta / y (%)"))
+  expect_equal(nrow(d), 3 * (12 + 2))
+  share <- d[d$component == "delta / y (%)", ]
+  expect_true(all(is.na(share$obs)))
+  expect_true(all(abs(share$q50) < 25))
+  expect_error(plot_components_data(fit, newdata = seb_field[1:2, 2:4]),
+               class = "bayesbem_error_argument")
+})
+
+test_that("prediction plots draw", {
+  skip_on_cran()
+  skip_if_not_installed("vdiffr")
+  fit <- shared_fit()
+  withr::local_seed(1)
+  vdiffr::expect_doppelganger("predictions", plot_predictions(fit, ndraws = 200))
+  withr::local_seed(1)
+  vdiffr::expect_doppelganger(
+    "components",
+    plot_components(fit, newdata = seb_field[1:3, 2:4], obs = seb_field$y[1:3], ndraws = 200)
+  )
+})

@@ -1,0 +1,19 @@
+test_that("trace plots cover tf, the betas and the lambdas", {
+  skip_on_cran()
+  fit <- shared_fit()
+  d <- plot_trace_data(fit)
+  expect_setequal(as.character(unique(d$parameter)),
+                  setdiff(posterior::variables(posterior::as_draws(fit)), "lp__"))
+  expect_equal(nrow(d), 15 * 1000)
+  expect_snapshot(plot_trace(fit, variables = "lambda_x"), error = TRUE)
+})
+
+test_that("plot_trace() draws the paper's Fig 7", {
+  skip_on_cran()
+  skip_if_not_installed("vdiffr")
+  fit <- shared_fit()
+  vdiffr::expect_doppelganger(
+    "trace",
+    plot_trace(fit, variables = c("equipment_power_density", "beta_eta[temp]", "lambda_e"))
+  )
+})
