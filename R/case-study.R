@@ -4,22 +4,44 @@
 #' [seb_sim]: three calibration parameters (fan total efficiency, equipment
 #' power density, infiltration), the paper's hyperpriors, flat priors on the
 #' parameters, and NUTS with 4 chains of 500 iterations, half of them
-#' warm-up. Prints the summary.
+#' warm-up. Prints the posterior summary, the convergence diagnostics and the
+#' ASHRAE Guideline 14 metrics, and draws the posteriors, the paper's Fig 6
+#' comparison and the trace plots.
 #'
 #' @param chains,iter,seed,cores Passed to [calibrate()].
 #' @param priors A [koh_priors()] object.
+#' @param plot_dir A directory to save the plots in as PNG files
+#'   (`posteriors.png`, `components.png`, `trace.png`); by default they are
+#'   drawn on the current graphics device.
 #' @return The `koh_fit`, invisibly.
 #' @family case study
 #' @export
 #' @examples
 #' \donttest{
-#' fit <- run_case_study(chains = 1, iter = 300)
+#' fit <- run_case_study(chains = 1, iter = 300, plot_dir = tempdir())
 #' }
 run_case_study <- function(chains = 4L, iter = 500L, seed = 2018L,
                            cores = min(chains, parallel::detectCores(logical = FALSE), na.rm = TRUE),
-                           priors = koh_priors()) {
+                           priors = koh_priors(), plot_dir = NULL) {
   fit <- calibrate(koh_data(bayesbem::seb_field, bayesbem::seb_sim), priors = priors,
                    chains = chains, iter = iter, seed = seed, cores = cores)
   print(fit)
+  cat("\n")
+  print(check_convergence(fit, warn = FALSE))
+  cat("\nASHRAE Guideline 14 metrics of the calibrated predictions (percent):\n")
+  print(calibration_metrics(fit), row.names = FALSE)
+  plots <- list(posteriors = plot_posteriors(fit), components = plot_components(fit),
+                trace = plot_trace(fit))
+  if (is.null(plot_dir)) {
+    lapply(plots, print)
+  } else {
+    dir.create(plot_dir, showWarnings = FALSE, recursive = TRUE)
+    for (name in names(plots)) {
+      path <- file.path(plot_dir, paste0(name, ".png"))
+      ggplot2::ggsave(path, plots[[name]], width = 10, height = if (name == "posteriors") 4 else 7,
+                      dpi = 120)
+    }
+    cli::cli_inform("Plots saved in {.path {plot_dir}}.")
+  }
   invisible(fit)
 }

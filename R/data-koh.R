@@ -89,12 +89,10 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL) {
 
 #' @export
 print.koh_data <- function(x, ...) {
-  cli::cli_text("{.cls koh_data}: {x$n} field row{?s}, {x$m} simulation row{?s}")
-  cli::cli_bullets(c(
-    "*" = "output: {.field {x$names$y}} (field), {.field {x$names$eta}} (simulation)",
-    "*" = "{x$p} observable input{?s} x: {.field {x$names$x}}",
-    "*" = "{x$q} calibration parameter{?s} t: {.field {x$names$t}}"
-  ))
+  cat_lines("{.cls koh_data}: {x$n} field row{?s}, {x$m} simulation row{?s}",
+            "* output: {.field {x$names$y}} (field), {.field {x$names$eta}} (simulation)",
+            "* {x$p} observable input{?s} x: {.field {x$names$x}}",
+            "* {x$q} calibration parameter{?s} t: {.field {x$names$t}}")
   invisible(x)
 }
 

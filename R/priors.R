@@ -131,14 +131,13 @@ prior_level <- function(level = c("flat", "weak", "specific"), mu = NULL) {
 
 #' @export
 print.koh_priors <- function(x, ...) {
-  cli::cli_text("{.cls koh_priors}")
   tf <- if (length(x$tf) == 0L) "U(0, 1) for every parameter" else
-    paste(names(x$tf), vapply(x$tf, format, character(1)), sep = ": ", collapse = "; ")
-  cli::cli_bullets(c(
-    "*" = "tf: {tf} (others U(0, 1))",
-    "*" = "rho_eta ~ Beta({x$rho_eta[1]}, {x$rho_eta[2]}), rho_delta ~ Beta({x$rho_delta[1]}, {x$rho_delta[2]})",
-    "*" = "lambda_eta ~ Gamma({x$lambda_eta[1]}, {x$lambda_eta[2]}), lambda_delta ~ Gamma({x$lambda_delta[1]}, {x$lambda_delta[2]}), lambda_e ~ Gamma({x$lambda_e[1]}, {x$lambda_e[2]})"
-  ))
+    paste(paste(names(x$tf), vapply(x$tf, format, character(1)), sep = ": ", collapse = "; "),
+          "(others U(0, 1))")
+  cat_lines("{.cls koh_priors}",
+            "* tf: {tf}",
+            "* rho_eta ~ Beta({x$rho_eta[1]}, {x$rho_eta[2]}), rho_delta ~ Beta({x$rho_delta[1]}, {x$rho_delta[2]})",
+            "* lambda_eta ~ Gamma({x$lambda_eta[1]}, {x$lambda_eta[2]}), lambda_delta ~ Gamma({x$lambda_delta[1]}, {x$lambda_delta[2]}), lambda_e ~ Gamma({x$lambda_e[1]}, {x$lambda_e[2]})")
   invisible(x)
 }
 

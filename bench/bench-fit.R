@@ -9,6 +9,10 @@ suppressPackageStartupMessages(library(bayesbem))
 args <- commandArgs(trailingOnly = TRUE)
 seeds <- if (length(args) > 0) seq_len(as.integer(args[1])) else 1:3
 rstan::rstan_options(auto_write = FALSE)
+# Debian's r-cran-bh ships no headers; Boost is in /usr/include there
+if (!nzchar(system.file("include", "boost", package = "BH"))) {
+  rstan::rstan_options(boost_lib = "/usr/include")
+}
 
 stan_data <- bayesbem:::koh_stan_data(koh_data(seb_field, seb_sim), koh_priors())
 include_dir <- system.file("stan", package = "bayesbem")

@@ -59,7 +59,7 @@ transformed parameters {
 }
 model {
   vector[n_all + m] z = append_row(append_row(y, y_pred), eta);
-  matrix[n_all + m, n_all + m] sigma_z = koh_cov(nd2_ff, nd2_fc, nd2_cc, tc, tf', beta_eta, beta_delta,
+  matrix[n_all + m, n_all + m] sigma_z = koh_cov(n_all, nd2_ff, nd2_fc, nd2_cc, tc, tf', beta_eta, beta_delta,
                                          lambda_eta, lambda_delta, lambda_e, nugget);
   target += beta_lpdf(rho_eta | rho_eta_a, rho_eta_b);
   target += beta_lpdf(rho_delta | rho_delta_a, rho_delta_b);

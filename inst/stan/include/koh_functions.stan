@@ -27,13 +27,12 @@
    * plus Sigma_delta + I / lambda_e on the field block, plus a nugget on the
    * diagonal of Sigma_eta. Field rows all sit at tf, so the t part of their
    * distances to each other is zero and to the design rows is one row vector. */
-  matrix koh_cov(matrix nd2_ff, matrix nd2_fc, matrix nd2_cc, matrix tc, row_vector tf,
+  matrix koh_cov(int n, matrix nd2_ff, matrix nd2_fc, matrix nd2_cc, matrix tc, row_vector tf,
                  vector beta_eta, vector beta_delta,
                  real lambda_eta, real lambda_delta, real lambda_e, real nugget) {
     int p = rows(beta_delta);
     int q = cols(tc);
     int m = rows(tc);
-    int n = rows(nd2_fc) / m;
     matrix[m, q] tf_minus_tc = rep_matrix(tf, m) - tc;
     row_vector[m] d2_tf = ((tf_minus_tc .* tf_minus_tc) * tail(beta_eta, q))';
     matrix[n, m] sigma_fc = exp(to_matrix(nd2_fc * append_row(head(beta_eta, p), log(lambda_eta)), n, m)

@@ -22,3 +22,10 @@ check_count <- function(x, arg = rlang::caller_arg(x), call = rlang::caller_env(
   }
   invisible(x)
 }
+
+# Prints cli-formatted lines to standard output (print methods must write
+# there, not to the message stream, so that capture.output() sees them).
+cat_lines <- function(..., .envir = parent.frame()) {
+  lines <- vapply(c(...), cli::format_inline, character(1), .envir = .envir, USE.NAMES = FALSE)
+  cat(lines, sep = "\n")
+}

@@ -1,0 +1,39 @@
+#' Latin hypercube design over parameter ranges
+#'
+#' A maximin Latin hypercube (package lhs) over the ranges of the given
+#' parameters, in physical units: the paper's step 3, with about 10 runs per
+#' parameter as a rule of thumb.
+#'
+#' @param params A parameter table (see [bem_parameters()]) with the
+#'   parameters to vary, e.g. the top few of [screen_morris()].
+#' @param n Number of runs.
+#' @param seed Random seed of the design.
+#' @return A data frame with `n` rows and one column per parameter.
+#' @family design
+#' @export
+#' @examples
+#' design_lhs(bem_parameters()[c(3, 12, 14), ], n = 10, seed = 1)
+design_lhs <- function(params, n, seed = NULL) {
+  params <- check_parameter_table(params)
+  check_count(n)
+  if (n < 2L) {
+    abort_bayesbem("{.arg n} must be at least 2 runs.", "argument")
+  }
+  unit <- with_seed(seed, lhs::maximinLHS(n, nrow(params)))
+  design <- sweep(sweep(unit, 2, params$max - params$min, "*"), 2, params$min, "+")
+  stats::setNames(as.data.frame(design), params$parameter)
+}
+
+# Evaluates `expr` with R's random number generator seeded, restoring the
+# caller's generator state afterwards; `seed = NULL` leaves it alone.
+with_seed <- function(seed, expr) {
+  if (is.null(seed)) {
+    return(expr)
+  }
+  check_count(seed)
+  old <- if (exists(".Random.seed", envir = globalenv())) get(".Random.seed", envir = globalenv())
+  on.exit(if (is.null(old)) rm(".Random.seed", envir = globalenv()) else
+    assign(".Random.seed", old, envir = globalenv()))
+  set.seed(seed)
+  expr
+}

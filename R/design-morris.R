@@ -1,0 +1,128 @@
+#' Morris screening of a simulator's parameters
+#'
+#' The paper's step 2: ranks the uncertain parameters by the Morris
+#' elementary-effects method ([sensitivity::morris()], one-at-a-time design
+#' with `r` trajectories on a `levels`-level grid), using `mu*` (the mean
+#' absolute elementary effect, Campolongo et al. 2007) with `mu` and `sigma`.
+#' Inputs are scaled to \[0, 1\] over their ranges and outputs are divided by
+#' their mean over all runs, so effects are relative changes of the output
+#' over a parameter's whole range and comparable between parameters.
+#'
+#' @param simulator A `bayesbem_simulator`.
+#' @param params The parameter table to screen (default: all of the
+#'   simulator's parameters).
+#' @param r Number of trajectories (the design runs `(k + 1) * r`
+#'   simulations for `k` parameters).
+#' @param levels Number of grid levels (even; the jump is `levels / 2`).
+#' @param seed Random seed of the design.
+#' @param output `"sum"`: effects on the output summed over all periods;
+#'   `"period"`: effects on each period's output.
+#' @return A data frame of class `bayesbem_morris`, ranked by `mu_star`:
+#'   `parameter`, `mu_star`, `mu`, `sigma`, `rank` (and `period` for
+#'   `output = "period"`, where the rank is that of the mean `mu_star` over
+#'   periods).
+#' @family design
+#' @export
+#' @examples
+#' \donttest{
+#' if (requireNamespace("sensitivity", quietly = TRUE)) {
+#'   sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+#'   m <- screen_morris(sim, r = 10, seed = 1)
+#'   m
+#'   plot_morris(m)
+#' }
+#' }
+screen_morris <- function(simulator, params = simulator$parameters, r = 10, levels = 6,
+                          seed = NULL, output = c("sum", "period")) {
+  rlang::check_installed("sensitivity", reason = "for Morris screening.")
+  output <- match.arg(output)
+  params <- check_parameter_table(params)
+  check_count(r)
+  check_count(levels)
+  if (levels %% 2 != 0) {
+    abort_bayesbem("{.arg levels} must be even (the grid jump is {.code levels / 2}).", "argument")
+  }
+  design <- with_seed(seed, sensitivity::morris(
+    model = NULL, factors = params$parameter, r = r,
+    design = list(type = "oat", levels = levels, grid.jump = levels / 2),
+    binf = params$min, bsup = params$max, scale = TRUE
+  ))
+  x <- stats::setNames(as.data.frame(design$X), params$parameter)
+  table <- simulate_design(simulator, x)
+  if (nrow(attr(table, "failed")) > 0L) {
+    abort_bayesbem("Morris screening needs every run; {nrow(attr(table, 'failed'))} failed.",
+                   "simulation")
+  }
+  runs <- matrix(table$eta, nrow = nrow(x), byrow = TRUE)
+  runs <- runs / mean(runs)
+  if (output == "sum") {
+    effects <- morris_effects(design, rowSums(runs) / ncol(runs))
+    out <- data.frame(parameter = params$parameter, effects)
+  } else {
+    per_period <- lapply(seq_len(ncol(runs)), function(j) {
+      data.frame(parameter = params$parameter, period = j, morris_effects(design, runs[, j]))
+    })
+    out <- do.call(rbind, per_period)
+  }
+  mean_mu_star <- tapply(out$mu_star, out$parameter, mean)[params$parameter]
+  order_k <- order(-mean_mu_star)
+  out$rank <- match(out$parameter, params$parameter[order_k])
+  out <- out[order(out$rank, out$period %||% 0), ]
+  rownames(out) <- NULL
+  class(out) <- c("bayesbem_morris", "data.frame")
+  out
+}
+
+morris_effects <- function(design, y) {
+  m <- sensitivity::tell(design, y)
+  ee <- m$ee
+  data.frame(mu_star = colMeans(abs(ee)), mu = colMeans(ee), sigma = apply(ee, 2, stats::sd),
+             row.names = NULL)
+}
+
+#' @export
+print.bayesbem_morris <- function(x, digits = 3, ...) {
+  cat("Morris screening (effects relative to the mean output, over each parameter's range)\n")
+  print(as.data.frame(unclass(x)), digits = digits, row.names = FALSE)
+  invisible(x)
+}
+
+#' Plot Morris screening results
+#'
+#' The paper's Fig 3: `mu*` against `sigma` for each parameter. Parameters
+#' far to the right matter; high `sigma` means non-linear effects or
+#' interactions.
+#'
+#' @param x A `bayesbem_morris` result of [screen_morris()] with
+#'   `output = "sum"`.
+#' @return `plot_morris()`: a ggplot. `plot_morris_data()`: a data frame
+#'   with `parameter`, `mu_star`, `sigma` and `rank`.
+#' @family design
+#' @family plots
+#' @export
+#' @examples
+#' \donttest{
+#' if (requireNamespace("sensitivity", quietly = TRUE)) {
+#'   sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+#'   plot_morris(screen_morris(sim, r = 5, seed = 1))
+#' }
+#' }
+plot_morris <- function(x) {
+  d <- plot_morris_data(x)
+  ggplot2::ggplot(d, ggplot2::aes(.data$mu_star, .data$sigma, label = .data$parameter)) +
+    ggplot2::geom_point(colour = "#1b6ca8") +
+    ggplot2::geom_text(hjust = -0.08, size = 3, check_overlap = TRUE) +
+    ggplot2::scale_x_continuous(expand = ggplot2::expansion(mult = c(0.05, 0.45))) +
+    ggplot2::labs(x = "mu* (mean absolute elementary effect)", y = "sigma") +
+    ggplot2::theme_bw()
+}
+
+#' @rdname plot_morris
+#' @export
+plot_morris_data <- function(x) {
+  if (!inherits(x, "bayesbem_morris") || "period" %in% names(x)) {
+    abort_bayesbem("{.arg x} must be a result of {.code screen_morris(output = \"sum\")}.",
+                   "argument")
+  }
+  as.data.frame(unclass(x))[c("parameter", "mu_star", "sigma", "rank")]
+}

@@ -1,0 +1,163 @@
+#' Uncertain parameters of the case-study building
+#'
+#' The 14 uncertain parameters of Chong and Menberg (2018), with their
+#' initial values and ranges: the default parameter table of
+#' [bem_simulator()], and the form [design_lhs()] and [screen_morris()]
+#' take. A parameter table is a data frame with columns `parameter`,
+#' `initial`, `min` and `max` (physical units); `unit` and `description` are
+#' optional.
+#'
+#' @return A data frame with 14 rows and columns `parameter`, `initial`,
+#'   `min`, `max`, `unit`, `description`.
+#' @family simulation
+#' @export
+#' @examples
+#' bem_parameters()
+bem_parameters <- function() {
+  data.frame(
+    parameter = c("cooling_setpoint", "heating_setpoint", "fan_total_efficiency",
+                  "fan_motor_efficiency", "dx_cooling_cop", "gas_burner_efficiency",
+                  "baseboard_capacity", "wall_R_multiplier", "wall_density_multiplier",
+                  "roof_R_multiplier", "roof_density_multiplier", "equipment_power_density",
+                  "lighting_power_density", "infiltration_per_exterior_area"),
+    initial = c(23.9, 18.3, 0.5, 0.9, 3, 0.95, 1500, 1, 1, 1, 1, 21.9, 14.6, 0.001524),
+    min = c(21, 15, 0.1, 0.86, 1, 0.8, 1200, 0.9, 0.98, 0.9, 0.98, 3, 2, 0),
+    max = c(25, 20.5, 0.9, 1.0, 6, 1.0, 1800, 1.1, 1.02, 1.1, 1.02, 30, 20, 0.001524),
+    unit = c("C", "C", "-", "-", "-", "-", "W", "-", "-", "-", "-", "W/m2", "W/m2", "m3/s-m2"),
+    description = c("cooling setpoint", "heating setpoint", "fan total efficiency",
+                    "fan motor efficiency", "DX cooling coil COP", "gas burner efficiency",
+                    "electric baseboard capacity", "exterior wall R-value multiplier",
+                    "exterior wall density multiplier", "roof R-value multiplier",
+                    "roof density multiplier", "electric equipment power density",
+                    "lighting power density", "infiltration per exterior surface area")
+  )
+}
+
+#' Fixed properties of the embedded building model
+#'
+#' Geometry, constructions, schedules and systems of a small single-storey
+#' commercial building like the case study's (79 m2, occupied around the
+#' clock, constant-volume fan, DX cooling, gas furnace, electric baseboard).
+#' Every element can be changed by name.
+#'
+#' @param ... Named values replacing the defaults (see Value).
+#' @return A list: `floor_area` (m2), `wall_area` (gross, m2),
+#'   `window_fraction`, `roof_area` (m2), `u_wall`, `u_roof`, `u_window`,
+#'   `u_floor` (W/m2K, before R-value multipliers), `floor_loss_factor`
+#'   (share of the floor loss that goes to outdoor air), `shgc`,
+#'   `frame_factor`, `kappa_wall`, `kappa_roof`, `kappa_internal` (areal heat
+#'   capacities, J/m2K), `lighting_fraction`, `equipment_fraction` (mean
+#'   share of the power densities in use), `occupant_gain` (W),
+#'   `outdoor_air` (m3/s), `fan_flow` (m3/s), `fan_pressure` (Pa),
+#'   `baseboard_share` (share of the heating need met by the baseboard, up
+#'   to its capacity).
+#' @family simulation
+#' @export
+#' @examples
+#' bem_building(floor_area = 100)
+bem_building <- function(...) {
+  defaults <- list(
+    floor_area = 79, wall_area = 106.8, window_fraction = 0.15, roof_area = 79,
+    u_wall = 0.5, u_roof = 0.2, u_window = 2.9, u_floor = 0.4, floor_loss_factor = 0.5,
+    shgc = 0.6, frame_factor = 0.8,
+    kappa_wall = 80e3, kappa_roof = 50e3, kappa_internal = 110e3,
+    lighting_fraction = 0.6, equipment_fraction = 0.7, occupant_gain = 200,
+    outdoor_air = 0.03, fan_flow = 0.45, fan_pressure = 500, baseboard_share = 0.15
+  )
+  changes <- list(...)
+  unknown <- setdiff(names(changes), names(defaults))
+  if (length(unknown) > 0L || is.null(names(changes)) && length(changes) > 0L) {
+    abort_bayesbem(c("Unknown building propert{?y/ies} {.field {unknown}}.",
+                     i = "Known properties: {.field {names(defaults)}}."),
+                   "argument")
+  }
+  utils::modifyList(defaults, changes)
+}
+
+#' Monthly energy use of the embedded building model (ISO 13790)
+#'
+#' The monthly quasi-steady-state method of ISO 13790 (ISO 52016-1) for one
+#' thermal zone, with the systems of the case-study building. For each month
+#' of `hours` hours at mean outdoor temperature `theta_e`:
+#'
+#' * heat transfer coefficients: transmission
+#'   `H_tr = u_wall / wall_R_multiplier * A_wall + u_roof / roof_R_multiplier * A_roof
+#'   + u_window * A_window + floor_loss_factor * u_floor * A_floor`, and
+#'   ventilation `H_ve = 1206 * (infiltration_per_exterior_area * (A_wall + A_roof) + outdoor_air)`
+#'   (W/K);
+#' * losses at set point `theta`: `Q_ht = (H_tr + H_ve) * (theta - theta_e) * hours` (Wh);
+#' * gains: internal `Q_int = (lighting_fraction * LPD + equipment_fraction * EPD) * A_floor * hours
+#'   + occupant_gain * hours + P_fan * fan_motor_efficiency * hours`, and solar
+#'   `Q_sol = I_vert * A_window * shgc * frame_factor * hours` with the mean
+#'   irradiance on the facades `I_vert = 0.2 dni + 0.5 dhi + 0.1 ghi`;
+#' * time constant `tau = C_m / (H_tr + H_ve) / 3600` (h) with
+#'   `C_m = kappa_wall * wall_density_multiplier * A_wall + kappa_roof * roof_density_multiplier * A_roof
+#'   + kappa_internal * A_floor`, and `a = 1 + tau / 15`;
+#' * heating need `Q_H = Q_ht,H - eta_gn * Q_gn` with gain ratio
+#'   `gamma = Q_gn / Q_ht,H` and utilisation `eta_gn = (1 - gamma^a) / (1 - gamma^(a + 1))`
+#'   (`a / (a + 1)` at `gamma = 1`); zero when `Q_ht,H <= 0`;
+#' * cooling need `Q_C = Q_gn - eta_ls * Q_ht,C` with loss ratio
+#'   `lambda = Q_ht,C / Q_gn` and utilisation
+#'   `eta_ls = (1 - lambda^-a) / (1 - lambda^-(a + 1))` (`a / (a + 1)` at
+#'   `lambda = 1`, 1 when `lambda <= 0`); zero when negative.
+#'
+#' Electricity is lighting + equipment + fan (`P_fan = fan_flow * fan_pressure /
+#' fan_total_efficiency`, running continuously) + DX cooling (`Q_C / dx_cooling_cop`)
+#' + baseboard (`min(baseboard_share * Q_H, baseboard_capacity * hours)`); gas
+#' is the rest of the heating need over `gas_burner_efficiency`.
+#'
+#' @param params A named list or one-row data frame with all 14 parameters
+#'   of [bem_parameters()] (physical units).
+#' @param weather Monthly weather as from [epw_monthly()] (columns `hours`,
+#'   `temp`, `dni`, `dhi`, `ghi`).
+#' @param building Building properties from [bem_building()].
+#' @return A data frame with one row per month: `electricity` and `gas`
+#'   (kWh), and the needs `heating_need` and `cooling_need` (kWh).
+#' @family simulation
+#' @export
+#' @examples
+#' p <- stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
+#' w <- epw_monthly(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+#' bem_monthly(p, w)
+bem_monthly <- function(params, weather, building = bem_building()) {
+  p <- as.list(params)
+  b <- building
+  hours <- weather$hours
+  a_window <- b$window_fraction * b$wall_area
+  a_wall <- b$wall_area - a_window
+  h_tr <- b$u_wall / p$wall_R_multiplier * a_wall + b$u_roof / p$roof_R_multiplier * b$roof_area +
+    b$u_window * a_window + b$floor_loss_factor * b$u_floor * b$floor_area
+  h_ve <- 1206 * (p$infiltration_per_exterior_area * (b$wall_area + b$roof_area) + b$outdoor_air)
+  h <- h_tr + h_ve
+  c_m <- b$kappa_wall * p$wall_density_multiplier * b$wall_area +
+    b$kappa_roof * p$roof_density_multiplier * b$roof_area + b$kappa_internal * b$floor_area
+  a <- 1 + c_m / h / 3600 / 15
+  p_fan <- b$fan_flow * b$fan_pressure / p$fan_total_efficiency
+  lights <- b$lighting_fraction * p$lighting_power_density * b$floor_area * hours
+  equipment <- b$equipment_fraction * p$equipment_power_density * b$floor_area * hours
+  i_vert <- 0.2 * weather$dni + 0.5 * weather$dhi + 0.1 * weather$ghi
+  gains <- lights + equipment + b$occupant_gain * hours + p_fan * p$fan_motor_efficiency * hours +
+    i_vert * a_window * b$shgc * b$frame_factor * hours
+  loss_heating <- h * (p$heating_setpoint - weather$temp) * hours
+  loss_cooling <- h * (p$cooling_setpoint - weather$temp) * hours
+  heating <- ifelse(loss_heating > 0,
+                    pmax(loss_heating - gain_utilisation(gains / loss_heating, a) * gains, 0), 0)
+  cooling <- pmax(gains - loss_utilisation(loss_cooling / gains, a) * loss_cooling, 0)
+  baseboard <- pmin(b$baseboard_share * heating, p$baseboard_capacity * hours)
+  electricity <- lights + equipment + p_fan * hours + cooling / p$dx_cooling_cop + baseboard
+  gas <- (heating - baseboard) / p$gas_burner_efficiency
+  data.frame(electricity = electricity / 1000, gas = gas / 1000,
+             heating_need = heating / 1000, cooling_need = cooling / 1000)
+}
+
+# ISO 13790 gain utilisation factor for heating, gamma = gains / losses > 0.
+gain_utilisation <- function(gamma, a) {
+  ifelse(abs(gamma - 1) < 1e-9, a / (a + 1), (1 - gamma^a) / (1 - gamma^(a + 1)))
+}
+
+# ISO 13790 loss utilisation factor for cooling, lambda = losses / gains.
+loss_utilisation <- function(lambda, a) {
+  ifelse(lambda <= 0, 1,
+         ifelse(abs(lambda - 1) < 1e-9, a / (a + 1),
+                (1 - lambda^(-a)) / (1 - lambda^(-(a + 1)))))
+}

@@ -1,0 +1,119 @@
+#' Simulators
+#'
+#' A simulator turns one setting of the uncertain parameters (physical units)
+#' into the simulated output of every field period, and knows the observable
+#' inputs `x` of those periods. `simulator()` wraps any R function;
+#' [bem_simulator()] is the package's embedded building model.
+#'
+#' @param fun A function `fun(params, x)` taking a named list of all
+#'   parameters (one value each, physical units) and the data frame `x`, and
+#'   returning a numeric vector with one output per row of `x`.
+#' @param x A data frame of the observable inputs of each field period.
+#' @param parameters A parameter table (see [bem_parameters()]): every
+#'   parameter `fun` takes, with its initial value and range. Parameters a
+#'   design does not vary are held at their initial values.
+#' @param name A short description, for printing.
+#' @return An object of class `bayesbem_simulator`.
+#' @family simulation
+#' @export
+#' @examples
+#' lin <- simulator(function(params, x) params$a * x$temp + params$b,
+#'                  x = data.frame(temp = c(0, 10, 20)),
+#'                  parameters = data.frame(parameter = c("a", "b"), initial = c(1, 0),
+#'                                          min = c(0, -5), max = c(2, 5)))
+#' lin
+#' simulate_design(lin, data.frame(a = c(0.5, 1.5)))
+simulator <- function(fun, x, parameters, name = "custom simulator") {
+  if (!is.function(fun)) {
+    abort_bayesbem("{.arg fun} must be a function {.code fun(params, x)}.", "argument")
+  }
+  x <- as_numeric_table(x)
+  check_numeric_complete(x, names(x), "x")
+  structure(list(fun = fun, x = x, parameters = check_parameter_table(parameters), name = name),
+            class = "bayesbem_simulator")
+}
+
+#' @export
+print.bayesbem_simulator <- function(x, ...) {
+  cat_lines("{.cls bayesbem_simulator}: {x$name}",
+            "* {nrow(x$x)} period{?s}; observable inputs {.field {names(x$x)}}",
+            "* {nrow(x$parameters)} parameter{?s}: {.field {x$parameters$parameter}}")
+  invisible(x)
+}
+
+#' The embedded monthly building model as a simulator
+#'
+#' The default simulator of the package: [bem_monthly()] driven by the
+#' monthly means of an EPW weather file, so that screening, design and
+#' calibration run without external software. Its observable inputs are the
+#' monthly mean dry-bulb temperature `temp`, relative humidity `rh` and
+#' direct normal radiation `solar`, as in [seb_field].
+#'
+#' @param weather Monthly weather from [epw_monthly()], or the path of an EPW
+#'   file. Several years can be stacked with `rbind()`.
+#' @param parameters A parameter table (default [bem_parameters()]).
+#' @param building Building properties from [bem_building()].
+#' @param output `"electricity"` or `"gas"` (kWh per period).
+#' @return A `bayesbem_simulator`.
+#' @family simulation
+#' @export
+#' @examples
+#' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+#' sim
+#' simulate_design(sim, data.frame(equipment_power_density = c(10, 20)))
+bem_simulator <- function(weather, parameters = bem_parameters(), building = bem_building(),
+                          output = c("electricity", "gas")) {
+  output <- match.arg(output)
+  if (is.character(weather)) weather <- epw_monthly(weather)
+  x <- data.frame(temp = weather$temp, rh = weather$rh, solar = weather$dni)
+  fun <- function(params, x) bem_monthly(params, weather, building)[[output]]
+  simulator(fun, x, parameters, name = paste("embedded monthly building model,", output, "(kWh)"))
+}
+
+check_parameter_table <- function(parameters, arg = rlang::caller_arg(parameters),
+                                  call = rlang::caller_env()) {
+  needed <- c("parameter", "initial", "min", "max")
+  if (!is.data.frame(parameters) || !all(needed %in% names(parameters))) {
+    abort_bayesbem(c("{.arg {arg}} must be a parameter table with columns {.field {needed}}.",
+                     i = "See {.fn bem_parameters} for an example."),
+                   "parameters", call = call)
+  }
+  check_numeric_complete(parameters, needed[-1], arg, call = call)
+  bad <- parameters$parameter[!(parameters$min < parameters$max) |
+                                parameters$initial < parameters$min |
+                                parameters$initial > parameters$max]
+  if (length(bad) > 0L) {
+    abort_bayesbem(c("{.field {bad}}: each parameter needs {.code min < max} and an initial value within them.",
+                     i = "Fix the ranges in {.arg {arg}}."),
+                   "parameters", call = call)
+  }
+  if (anyDuplicated(parameters$parameter)) {
+    abort_bayesbem("{.arg {arg}} names a parameter more than once.", "parameters", call = call)
+  }
+  parameters
+}
+
+# Full parameter lists for each row of `design`: the design's values, and the
+# initial value of every parameter the design does not vary.
+design_settings <- function(sim, design, call = rlang::caller_env()) {
+  design <- as_numeric_table(design, "design", call = call)
+  table <- sim$parameters
+  unknown <- setdiff(names(design), table$parameter)
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("{.arg design} has column{?s} {.field {unknown}}, not parameter{?s} of the simulator.",
+                     i = "Its parameters are {.field {table$parameter}}."),
+                   "columns", call = call)
+  }
+  check_numeric_complete(design, names(design), "design", call = call)
+  range <- table[match(names(design), table$parameter), ]
+  outside <- names(design)[vapply(seq_along(design), function(k) {
+    any(design[[k]] < range$min[k] | design[[k]] > range$max[k])
+  }, logical(1))]
+  if (length(outside) > 0L) {
+    abort_bayesbem(c("{.arg design} has values outside the parameter range of {.field {outside}}.",
+                     i = "Keep each parameter within its {.field min} and {.field max}."),
+                   "parameters", call = call)
+  }
+  base <- stats::setNames(as.list(table$initial), table$parameter)
+  lapply(seq_len(nrow(design)), function(i) utils::modifyList(base, as.list(design[i, , drop = FALSE])))
+}

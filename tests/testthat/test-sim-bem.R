@@ -1,0 +1,66 @@
+initial_params <- function() {
+  stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
+}
+
+test_that("without gains, the heating need is transmission plus ventilation loss", {
+  b <- bem_building(window_fraction = 0, occupant_gain = 0, fan_flow = 0)
+  p <- initial_params()
+  p$lighting_power_density <- 0
+  p$equipment_power_density <- 0
+  weather <- data.frame(hours = c(744, 720), temp = c(-5, 30), dni = 0, dhi = 0, ghi = 0)
+  out <- bem_monthly(p, weather, b)
+  # by hand: H_tr = 0.5 * 106.8 + 0.2 * 79 + 0 + 0.5 * 0.4 * 79 = 84.99 W/K,
+  # H_ve = 1206 * (0.001524 * (106.8 + 79) + 0.03) = 377.6578... W/K
+  h <- 0.5 * 106.8 + 0.2 * 79 + 0.5 * 0.4 * 79 + 1206 * (0.001524 * 185.8 + 0.03)
+  expect_equal(out$heating_need[1], h * (18.3 - -5) * 744 / 1000)
+  expect_equal(out$heating_need[2], 0)
+  expect_equal(out$cooling_need[1], 0)
+  # the baseboard meets 15 % of the need up to its capacity (1.5 kW x 744 h
+  # binds at -5 C); gas meets the rest at the burner efficiency
+  expect_equal(out$electricity[1], 1.5 * 744)
+  expect_equal(out$gas[1], (out$heating_need[1] - 1.5 * 744) / 0.95)
+  mild <- bem_monthly(p, data.frame(hours = 744, temp = 10, dni = 0, dhi = 0, ghi = 0), b)
+  expect_equal(mild$electricity, 0.15 * mild$heating_need)
+  expect_equal(mild$gas, 0.85 * mild$heating_need / 0.95)
+})
+
+test_that("R-value multipliers scale the conductances", {
+  b <- bem_building(window_fraction = 0, occupant_gain = 0, fan_flow = 0)
+  p <- initial_params()
+  p$lighting_power_density <- 0
+  p$equipment_power_density <- 0
+  p$infiltration_per_exterior_area <- 0
+  p$wall_R_multiplier <- 1.1
+  weather <- data.frame(hours = 24, temp = 8.3, dni = 0, dhi = 0, ghi = 0)
+  h <- 0.5 / 1.1 * 106.8 + 0.2 * 79 + 0.5 * 0.4 * 79 + 1206 * 0.03
+  expect_equal(bem_monthly(p, weather, b)$heating_need, h * 10 * 24 / 1000)
+})
+
+test_that("utilisation factors follow ISO 13790", {
+  a <- 2
+  expect_equal(bayesbem:::gain_utilisation(0.5, a), (1 - 0.5^2) / (1 - 0.5^3))
+  expect_equal(bayesbem:::gain_utilisation(1, a), 2 / 3)
+  expect_equal(bayesbem:::loss_utilisation(2, a), (1 - 2^-2) / (1 - 2^-3))
+  expect_equal(bayesbem:::loss_utilisation(-1, a), 1)
+})
+
+test_that("the model responds to its parameters as physics says", {
+  w <- epw_monthly(shipped_epw(2013))
+  p <- initial_params()
+  base <- bem_monthly(p, w)
+  expect_true(all(base$electricity > 0))
+  expect_gt(sum(base$cooling_need[6:8]), 0)
+  expect_gt(sum(base$heating_need[c(1, 12)]), sum(base$heating_need[6:8]))
+  more <- utils::modifyList(p, list(equipment_power_density = 25))
+  expect_true(all(bem_monthly(more, w)$electricity > base$electricity))
+  efficient_fan <- utils::modifyList(p, list(fan_total_efficiency = 0.8))
+  expect_true(all(bem_monthly(efficient_fan, w)$electricity < base$electricity))
+  better_cop <- utils::modifyList(p, list(dx_cooling_cop = 5))
+  elec <- bem_monthly(better_cop, w)$electricity
+  expect_lt(elec[7], base$electricity[7])
+  expect_equal(elec[1], base$electricity[1])
+})
+
+test_that("unknown building properties are rejected", {
+  expect_error(bem_building(floor = 10), class = "bayesbem_error_argument")
+})

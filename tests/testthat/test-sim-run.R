@@ -1,0 +1,58 @@
+test_that("simulate_design() returns the [eta, x, t] table calibrate() takes", {
+  sim <- bem_simulator(shipped_epw(2013))
+  design <- design_lhs(bem_parameters()[c(3, 12, 14), ], n = 6, seed = 2)
+  table <- simulate_design(sim, design)
+  expect_named(table, c("eta", "temp", "rh", "solar", "fan_total_efficiency",
+                        "equipment_power_density", "infiltration_per_exterior_area"))
+  expect_equal(nrow(table), 6 * 12)
+  expect_equal(table$equipment_power_density[13:24], rep(design$equipment_power_density[2], 12))
+  expect_equal(table$temp[13:24], seb_field$temp, tolerance = 1e-12)
+  p <- utils::modifyList(stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter),
+                         as.list(design[2, ]))
+  expect_equal(table$eta[13:24], bem_monthly(p, epw_monthly(shipped_epw(2013)))$electricity)
+  expect_equal(nrow(attr(table, "failed")), 0)
+  d <- koh_data(seb_field, table)
+  expect_equal(c(d$n, d$m, d$p, d$q), c(12, 72, 3, 3))
+})
+
+test_that("failed runs are reported by row, kept out, and rerun alone from the cache", {
+  calls <- new.env()
+  calls$n <- 0
+  flaky <- simulator(function(params, x) {
+    calls$n <- calls$n + 1
+    if (params$a > 1.5 && is.null(calls$fixed)) stop("solver diverged")
+    params$a * x$temp
+  }, x = data.frame(temp = 1:3),
+  parameters = data.frame(parameter = "a", initial = 1, min = 0, max = 2))
+  cache <- tempfile("cache")
+  design <- data.frame(a = c(0.5, 1.8, 1.0, 1.9))
+  expect_warning(first <- simulate_design(flaky, design, cache_dir = cache),
+                 class = "bayesbem_warning_simulation")
+  expect_equal(attr(first, "failed")$run, c(2, 4))
+  expect_match(attr(first, "failed")$error, "solver diverged")
+  expect_equal(nrow(first), 2 * 3)
+  expect_equal(calls$n, 4)
+  calls$fixed <- TRUE
+  second <- simulate_design(flaky, design, cache_dir = cache)
+  expect_equal(calls$n, 6)
+  expect_equal(nrow(attr(second, "failed")), 0)
+  expect_equal(second$eta, rep(design$a, each = 3) * rep(1:3, 4))
+})
+
+test_that("a simulator returning the wrong length is a failed run", {
+  bad <- simulator(function(params, x) 1, x = data.frame(temp = 1:3),
+                   parameters = data.frame(parameter = "a", initial = 1, min = 0, max = 2))
+  expect_warning(out <- simulate_design(bad, data.frame(a = 1)), class = "bayesbem_warning_simulation")
+  expect_match(attr(out, "failed")$error, "length 1, not 3")
+})
+
+test_that("runs go through future plans", {
+  skip_on_cran()
+  sim <- bem_simulator(shipped_epw(2013))
+  design <- design_lhs(bem_parameters()[12:13, ], n = 4, seed = 5)
+  sequential <- simulate_design(sim, design)
+  old <- future::plan(future::multisession, workers = 2)
+  on.exit(future::plan(old), add = TRUE)
+  parallel <- simulate_design(sim, design)
+  expect_equal(parallel, sequential)
+})

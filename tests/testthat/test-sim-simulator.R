@@ -1,0 +1,32 @@
+linear_simulator <- function(fun = function(params, x) params$a * x$temp + params$b) {
+  simulator(fun, x = data.frame(temp = c(0, 10, 20)),
+            parameters = data.frame(parameter = c("a", "b"), initial = c(1, 0),
+                                    min = c(0, -5), max = c(2, 5)))
+}
+
+test_that("any R function can be wrapped as a simulator", {
+  sim <- linear_simulator()
+  expect_s3_class(sim, "bayesbem_simulator")
+  expect_output(print(sim), "3 periods")
+  settings <- bayesbem:::design_settings(sim, data.frame(a = 2))
+  # parameters a design does not vary stay at their initial values
+  expect_equal(settings, list(list(a = 2, b = 0)))
+})
+
+test_that("the embedded model is a simulator over monthly weather", {
+  sim <- bem_simulator(shipped_epw(2013))
+  expect_named(sim$x, c("temp", "rh", "solar"))
+  expect_equal(sim$x$temp, seb_field$temp, tolerance = 1e-12)
+  expect_equal(nrow(sim$parameters), 14)
+  gas <- bem_simulator(shipped_epw(2013), output = "gas")
+  expect_match(gas$name, "gas")
+})
+
+test_that("bad simulators and parameter tables get classed errors", {
+  expect_error(simulator("f", data.frame(a = 1), bem_parameters()), class = "bayesbem_error_argument")
+  expect_error(simulator(function(params, x) 1, data.frame(a = 1), data.frame(parameter = "a")),
+               class = "bayesbem_error_parameters")
+  sim <- linear_simulator()
+  expect_snapshot(simulate_design(sim, data.frame(c = 1)), error = TRUE)
+  expect_snapshot(simulate_design(sim, data.frame(a = 3)), error = TRUE)
+})
