@@ -67,7 +67,7 @@ screen_morris <- function(simulator, params = simulator$parameters, r = 10, leve
   mean_mu_star <- tapply(out$mu_star, out$parameter, mean)[params$parameter]
   order_k <- order(-mean_mu_star)
   out$rank <- match(out$parameter, params$parameter[order_k])
-  out <- out[order(out$rank, out$period %||% 0), ]
+  out <- out[order(out$rank, out$period %||% rep(0, nrow(out))), ]
   rownames(out) <- NULL
   class(out) <- c("bayesbem_morris", "data.frame")
   out

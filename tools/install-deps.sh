@@ -15,5 +15,18 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   r-cran-checkmate r-cran-cli r-cran-rlang r-cran-withr \
   r-cran-lhs r-cran-future r-cran-future.apply r-cran-progressr \
   r-cran-testthat r-cran-roxygen2 r-cran-knitr r-cran-rmarkdown r-cran-vdiffr \
+  r-cran-rcpparmadillo r-cran-proxy r-cran-clue r-cran-ggrepel r-cran-rspectra \
+  r-cran-shinyjs r-cran-iterators r-cran-modeltools r-cran-foreach \
   > /dev/null
 echo "install-deps: Debian packages installed"
+
+# From CRAN (R's configured repository) only what Debian lacks: sensitivity
+# (Morris screening) and the few of its dependencies Debian does not ship.
+Rscript -e '
+cran_only <- c("sensitivity")
+missing <- cran_only[!vapply(cran_only, requireNamespace, logical(1), quietly = TRUE)]
+if (length(missing) > 0L) install.packages(missing, Ncpus = 2L, quiet = TRUE)
+still <- cran_only[!vapply(cran_only, requireNamespace, logical(1), quietly = TRUE)]
+if (length(still) > 0L) stop("could not install from CRAN: ", paste(still, collapse = ", "))
+'
+echo "install-deps: CRAN packages installed"
