@@ -1,0 +1,131 @@
+#' Where the simulator is wrong: the posterior discrepancy
+#'
+#' For every field point, the posterior of what the simulator misses, in
+#' physical units and as a share of the measured output: the model
+#' discrepancy `delta(x)`, and the simulator residual `y - eta(x, tf)`
+#' (discrepancy plus noise). A point is flagged where the central interval of
+#' `delta` excludes zero. The verdict names the flagged points and the sign:
+#' a positive discrepancy means the simulator under-predicts.
+#'
+#' @param fit A `koh_fit`.
+#' @param newdata,obs Observable inputs and measured outputs to examine;
+#'   default: the field data the model was calibrated on.
+#' @param level Probability of the central intervals.
+#' @param ndraws Number of posterior draws to use (all by default).
+#' @return A data frame of class `koh_discrepancy`, one row per point: the
+#'   inputs, `point`, `obs`, and for `delta` and `residual` the posterior
+#'   `mean`, `lower` and `upper` (physical units) and `share` (mean, percent
+#'   of `obs`), plus `flag`. The verdict is in `attr(, "verdict")`.
+#' @family discrepancy
+#' @export
+#' @examples
+#' \donttest{
+#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
+#' d <- discrepancy(fit, ndraws = 200)
+#' d
+#' plot_discrepancy(d)
+#' }
+discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = NULL) {
+  if (!is.numeric(level) || length(level) != 1L || !(level > 0 && level < 1)) {
+    abort_bayesbem("{.arg level} must be one number between 0 and 1.", "argument")
+  }
+  if (!is.null(newdata) && is.null(obs)) {
+    abort_bayesbem("Give {.arg obs}, the measured outputs at {.arg newdata}.", "argument")
+  }
+  set <- prediction_set(fit, newdata, obs)
+  draws <- predict_draws(fit, set$x, ndraws = ndraws)
+  residual <- -sweep(draws$eta, 2, set$obs, "-")
+  probs <- c((1 - level) / 2, (1 + level) / 2)
+  interval <- function(d) t(apply(d, 2, stats::quantile, probs = probs, names = FALSE))
+  delta_int <- interval(draws$delta)
+  residual_int <- interval(residual)
+  out <- data.frame(
+    set$x[fit$data$names$x], point = seq_along(set$obs), obs = set$obs,
+    delta_mean = colMeans(draws$delta), delta_lower = delta_int[, 1], delta_upper = delta_int[, 2],
+    delta_share = 100 * colMeans(draws$delta) / set$obs,
+    residual_mean = colMeans(residual), residual_lower = residual_int[, 1],
+    residual_upper = residual_int[, 2], residual_share = 100 * colMeans(residual) / set$obs,
+    row.names = NULL
+  )
+  out$flag <- out$delta_lower > 0 | out$delta_upper < 0
+  structure(out, class = c("koh_discrepancy", "data.frame"), level = level,
+            verdict = discrepancy_verdict(out, level))
+}
+
+discrepancy_verdict <- function(d, level) {
+  flagged <- d[d$flag, , drop = FALSE]
+  if (nrow(flagged) == 0L) {
+    return(sprintf("The simulator is consistent with the data: every %g%% interval of delta contains zero.",
+                   100 * level))
+  }
+  describe <- function(rows, word) {
+    if (nrow(rows) == 0L) return(NULL)
+    sprintf("%s at point%s %s (by %s%% of the output on average)", word,
+            if (nrow(rows) > 1L) "s" else "", paste(rows$point, collapse = ", "),
+            format(mean(abs(rows$delta_share)), digits = 2))
+  }
+  parts <- c(describe(flagged[flagged$delta_mean > 0, ], "under-predicts"),
+             describe(flagged[flagged$delta_mean < 0, ], "over-predicts"))
+  sprintf("The simulator is wrong at %d of %d points: it %s.", nrow(flagged), nrow(d),
+          paste(parts, collapse = "; it "))
+}
+
+#' @export
+print.koh_discrepancy <- function(x, digits = 3, ...) {
+  cat(attr(x, "verdict"), "\n\n")
+  out <- as.data.frame(unclass(x))
+  num <- vapply(out, is.double, logical(1))
+  out[num] <- lapply(out[num], signif, digits = digits)
+  print(out, row.names = FALSE)
+  invisible(x)
+}
+
+#' Plot the posterior discrepancy
+#'
+#' The posterior mean and central interval of the discrepancy `delta` (as a
+#' share of the measured output, percent) at every point, along each
+#' observable input and along the points' order (time, for field data in
+#' time order). Flagged points, whose interval excludes zero, are drawn in
+#' red.
+#'
+#' @param x A `koh_discrepancy` from [discrepancy()].
+#' @return `plot_discrepancy()`: a ggplot. `plot_discrepancy_data()`: a data
+#'   frame with `along` (the input, or `"point order"`), `position`, `point`,
+#'   `mean`, `lower`, `upper` (percent of the output) and `flag`.
+#' @family discrepancy
+#' @family plots
+#' @export
+plot_discrepancy <- function(x) {
+  d <- plot_discrepancy_data(x)
+  ggplot2::ggplot(d, ggplot2::aes(.data$position, .data$mean, colour = .data$flag)) +
+    ggplot2::geom_hline(yintercept = 0, colour = "grey50") +
+    ggplot2::geom_pointrange(ggplot2::aes(ymin = .data$lower, ymax = .data$upper)) +
+    ggplot2::facet_wrap(ggplot2::vars(.data$along), scales = "free_x") +
+    ggplot2::scale_colour_manual(values = c(`FALSE` = "#1b6ca8", `TRUE` = "#c0392b"),
+                                 labels = c(`FALSE` = "interval contains 0",
+                                            `TRUE` = "interval excludes 0")) +
+    ggplot2::labs(x = NULL, y = "discrepancy delta / y (%)", colour = NULL,
+                  caption = sprintf("posterior mean and %g%% interval", 100 * attr(x, "level"))) +
+    ggplot2::theme_bw() +
+    ggplot2::theme(legend.position = "bottom")
+}
+
+#' @rdname plot_discrepancy
+#' @export
+plot_discrepancy_data <- function(x) {
+  if (!inherits(x, "koh_discrepancy")) {
+    abort_bayesbem("{.arg x} must be made by {.fn discrepancy}.", "argument")
+  }
+  x_names <- setdiff(names(x), c("point", "obs", grep("^(delta|residual)_", names(x), value = TRUE),
+                                 "flag"))
+  share <- function(v) 100 * v / x$obs
+  along <- c(x_names, "point order")
+  rows <- lapply(along, function(a) {
+    data.frame(along = a, position = if (a == "point order") x$point else x[[a]],
+               point = x$point, mean = share(x$delta_mean), lower = share(x$delta_lower),
+               upper = share(x$delta_upper), flag = x$flag)
+  })
+  out <- do.call(rbind, rows)
+  out$along <- factor(out$along, levels = along)
+  out
+}

@@ -1,0 +1,45 @@
+test_that("discrepancy() gives delta and the simulator residual at every field point", {
+  skip_on_cran()
+  fit <- shared_fit()
+  withr::local_seed(11)
+  d <- discrepancy(fit, ndraws = 300)
+  expect_s3_class(d, "koh_discrepancy")
+  expect_equal(nrow(d), 12)
+  expect_equal(d$obs, seb_field$y)
+  expect_true(all(d$delta_lower <= d$delta_mean & d$delta_mean <= d$delta_upper))
+  expect_equal(d$flag, d$delta_lower > 0 | d$delta_upper < 0)
+  expect_equal(d$delta_share, 100 * d$delta_mean / d$obs)
+  # the residual is y - eta for the same posterior draws of eta
+  draws <- withr::with_seed(11, bayesbem:::predict_draws(fit, seb_field[2:4], ndraws = 300))
+  expect_equal(d$residual_mean, seb_field$y - colMeans(draws$eta))
+  expect_equal(d$delta_mean, colMeans(draws$delta))
+  expect_type(attr(d, "verdict"), "character")
+  expect_output(print(d), "The simulator is")
+})
+
+test_that("the verdict says consistent, or names the points and the sign", {
+  base <- data.frame(point = 1:4, obs = 100, delta_mean = c(1, -1, 20, -15),
+                     delta_share = c(1, -1, 20, -15), flag = FALSE)
+  expect_match(bayesbem:::discrepancy_verdict(base, 0.9), "consistent with the data")
+  flagged <- base
+  flagged$flag <- c(FALSE, FALSE, TRUE, TRUE)
+  verdict <- bayesbem:::discrepancy_verdict(flagged, 0.9)
+  expect_match(verdict, "wrong at 2 of 4 points")
+  expect_match(verdict, "under-predicts at point 3 \\(by 20%")
+  expect_match(verdict, "over-predicts at point 4 \\(by 15%")
+})
+
+test_that("plot_discrepancy() shows delta along each input and in point order", {
+  skip_on_cran()
+  fit <- shared_fit()
+  withr::local_seed(12)
+  d <- discrepancy(fit, ndraws = 200)
+  pd <- plot_discrepancy_data(d)
+  expect_equal(levels(pd$along), c("temp", "rh", "solar", "point order"))
+  expect_equal(nrow(pd), 4 * 12)
+  expect_equal(pd$position[pd$along == "rh"], seb_field$rh)
+  expect_s3_class(plot_discrepancy(d), "ggplot")
+  expect_error(plot_discrepancy_data(data.frame()), class = "bayesbem_error_argument")
+  skip_if_not_installed("vdiffr")
+  vdiffr::expect_doppelganger("discrepancy", plot_discrepancy(d))
+})
