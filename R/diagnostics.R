@@ -21,10 +21,7 @@
 #' @family diagnostics
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
-#' check_convergence(fit, warn = FALSE)
-#' }
+#' check_convergence(seb_fit, warn = FALSE)
 check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, warn = TRUE) {
   draws <- as_draws_array.koh_fit(fit)
   draws <- posterior::subset_draws(draws, variable = setdiff(posterior::variables(draws), "lp__"))

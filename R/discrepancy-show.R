@@ -19,12 +19,9 @@
 #' @family discrepancy
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
-#' d <- discrepancy(fit, ndraws = 200)
+#' d <- discrepancy(seb_fit, ndraws = 200)
 #' d
 #' plot_discrepancy(d)
-#' }
 discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = NULL) {
   if (!is.numeric(level) || length(level) != 1L || !(level > 0 && level < 1)) {
     abort_bayesbem("{.arg level} must be one number between 0 and 1.", "argument")
@@ -95,6 +92,10 @@ print.koh_discrepancy <- function(x, digits = 3, ...) {
 #' @family discrepancy
 #' @family plots
 #' @export
+#' @examples
+#' d <- discrepancy(seb_fit, ndraws = 100)
+#' plot_discrepancy(d)
+#' head(plot_discrepancy_data(d))
 plot_discrepancy <- function(x) {
   d <- plot_discrepancy_data(x)
   ggplot2::ggplot(d, ggplot2::aes(.data$position, .data$mean, colour = .data$flag)) +

@@ -105,10 +105,7 @@ new_koh_fit <- function(stanfit, data, priors, settings, predict_at = NULL) {
 #' @family calibration
 #' @name as_draws.koh_fit
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 1)
-#' posterior::summarise_draws(posterior::as_draws(fit))
-#' }
+#' posterior::summarise_draws(posterior::as_draws(seb_fit))
 NULL
 
 #' @rdname as_draws.koh_fit
@@ -152,10 +149,8 @@ as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.ko
 #' @family calibration
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 1)
-#' summary(fit)$parameters
-#' }
+#' summary(seb_fit)$parameters
+#' seb_fit
 summary.koh_fit <- function(object, ...) {
   draws <- as_draws_array.koh_fit(object)
   s <- posterior::summarise_draws(

@@ -58,10 +58,7 @@ check_metric_input <- function(obs, pred, call = rlang::caller_env()) {
 #' @family metrics
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 1)
-#' calibration_metrics(fit)
-#' }
+#' calibration_metrics(seb_fit, ndraws = 100)
 calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                                 frequency = c("monthly", "hourly"), ndraws = NULL) {
   frequency <- match.arg(frequency)

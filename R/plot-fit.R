@@ -14,11 +14,8 @@
 #' @family plots
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
-#' plot(fit)
-#' plot(fit, type = "trace")
-#' }
+#' plot(seb_fit)
+#' plot(seb_fit, type = "trace")
 plot.koh_fit <- function(x, type = c("posteriors", "trace", "predictions", "components"), ...) {
   type <- match.arg(type)
   switch(type,

@@ -12,11 +12,8 @@
 #' @family plots
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
-#' plot_posteriors(fit)
-#' head(plot_posteriors_data(fit))
-#' }
+#' plot_posteriors(seb_fit)
+#' head(plot_posteriors_data(seb_fit))
 plot_posteriors <- function(fit, n_grid = 200) {
   d <- plot_posteriors_data(fit, n_grid)
   ggplot2::ggplot(d, ggplot2::aes(.data$value, .data$density, colour = .data$curve,

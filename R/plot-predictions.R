@@ -19,10 +19,7 @@
 #' @family prediction
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
-#' plot_predictions(fit, ndraws = 100)
-#' }
+#' plot_predictions(seb_fit, ndraws = 100)
 plot_predictions <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
   d <- plot_predictions_data(fit, newdata, obs, ndraws)
   ggplot2::ggplot(d, ggplot2::aes(x = .data$x, group = .data$point)) +
@@ -70,10 +67,7 @@ plot_predictions_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL
 #' @family prediction
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
-#' plot_components(fit, ndraws = 100)
-#' }
+#' plot_components(seb_fit, ndraws = 100)
 plot_components <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
   d <- plot_components_data(fit, newdata, obs, ndraws)
   zero <- data.frame(component = factor(component_labels()[3], levels = component_labels()),

@@ -16,10 +16,7 @@
 #' @family diagnostics
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 1)
-#' plot_trace(fit, variables = c("equipment_power_density", "lambda_e"))
-#' }
+#' plot_trace(seb_fit, variables = c("equipment_power_density", "lambda_e"))
 plot_trace <- function(fit, variables = NULL) {
   bayesplot::mcmc_trace(trace_draws(fit, variables)) +
     ggplot2::theme_bw()

@@ -38,11 +38,9 @@
 #' @family prediction
 #' @export
 #' @examples
-#' \donttest{
-#' fit <- calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 1)
-#' predict(fit)
-#' predict(fit, type = "delta", ndraws = 50)
-#' }
+#' predict(seb_fit, ndraws = 100)
+#' predict(seb_fit, type = "delta", ndraws = 100)
+#' predict(seb_fit, data.frame(temp = 15, rh = 45, solar = 250), type = "eta", ndraws = 100)
 predict.koh_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"),
                             ndraws = NULL, summary = TRUE, noise = FALSE,
                             method = c("conditional", "sampled"),
