@@ -62,19 +62,7 @@ check_metric_input <- function(obs, pred, call = rlang::caller_env()) {
 calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                                 frequency = c("monthly", "hourly"), ndraws = NULL) {
   frequency <- match.arg(frequency)
-  if (xor(is.null(newdata), is.null(obs))) {
-    abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
-                   "argument")
-  }
-  sets <- list(training = list(x = field_inputs(fit$data), obs = fit$data$field[[fit$data$names$y]]))
-  if (!is.null(newdata)) {
-    if (!is.numeric(obs) || length(obs) != NROW(newdata)) {
-      abort_bayesbem(c("{.arg obs} must be numeric with one value per row of {.arg newdata}.",
-                       x = "It has {length(obs)} value{?s} for {NROW(newdata)} row{?s}."),
-                     "argument")
-    }
-    sets[["held-out"]] <- list(x = newdata, obs = obs)
-  }
+  sets <- evaluation_sets(fit, newdata, obs)
   limits <- switch(frequency, monthly = c(15, 5), hourly = c(30, 10))
   rows <- lapply(names(sets), function(set) {
     pred <- colMeans(predict_draws(fit, sets[[set]]$x, ndraws = ndraws)$y)

@@ -87,12 +87,7 @@ plot_components <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
 #' @rdname plot_components
 #' @export
 plot_components_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
-  if (xor(is.null(newdata), is.null(obs))) {
-    abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
-                   "argument")
-  }
-  sets <- list(training = prediction_set(fit, NULL, NULL))
-  if (!is.null(newdata)) sets[["held-out"]] <- prediction_set(fit, newdata, obs)
+  sets <- evaluation_sets(fit, newdata, obs)
   labels <- component_labels()
   rows <- lapply(names(sets), function(set) {
     s <- sets[[set]]
@@ -111,16 +106,3 @@ plot_components_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL)
 }
 
 component_labels <- function() c("eta + delta", "eta", "delta / y (%)")
-
-# Inputs and measured outputs to compare predictions with.
-prediction_set <- function(fit, newdata, obs, call = rlang::caller_env()) {
-  if (is.null(newdata)) {
-    return(list(x = field_inputs(fit$data), obs = fit$data$field[[fit$data$names$y]]))
-  }
-  if (!is.null(obs) && (!is.numeric(obs) || length(obs) != NROW(newdata))) {
-    abort_bayesbem(c("{.arg obs} must be numeric with one value per row of {.arg newdata}.",
-                     x = "It has {length(obs)} value{?s} for {NROW(newdata)} row{?s}."),
-                   "argument", call = call)
-  }
-  list(x = newdata, obs = obs %||% rep(NA_real_, NROW(newdata)))
-}

@@ -101,6 +101,31 @@ field_inputs <- function(data) {
   data$field[data$names$x]
 }
 
+# Inputs and measured outputs to compare predictions with: the field data by
+# default, otherwise `newdata` with `obs` (NA when not given).
+prediction_set <- function(fit, newdata, obs, call = rlang::caller_env()) {
+  if (is.null(newdata)) {
+    return(list(x = field_inputs(fit$data), obs = fit$data$field[[fit$data$names$y]]))
+  }
+  if (!is.null(obs) && (!is.numeric(obs) || length(obs) != NROW(newdata))) {
+    abort_bayesbem(c("{.arg obs} must be numeric with one value per row of {.arg newdata}.",
+                     x = "It has {length(obs)} value{?s} for {NROW(newdata)} row{?s}."),
+                   "argument", call = call)
+  }
+  list(x = newdata, obs = obs %||% rep(NA_real_, NROW(newdata)))
+}
+
+# The training set, and a held-out set when both `newdata` and `obs` are given.
+evaluation_sets <- function(fit, newdata, obs, call = rlang::caller_env()) {
+  if (xor(is.null(newdata), is.null(obs))) {
+    abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
+                   "argument", call = call)
+  }
+  sets <- list(training = prediction_set(fit, NULL, NULL))
+  if (!is.null(newdata)) sets[["held-out"]] <- prediction_set(fit, newdata, obs, call = call)
+  sets
+}
+
 # Checks new observable inputs, warns on extrapolation, and scales them.
 scale_newdata <- function(data, newdata, arg = "newdata", call = rlang::caller_env()) {
   x_names <- data$names$x
