@@ -23,17 +23,3 @@ design_lhs <- function(params, n, seed = NULL) {
   design <- sweep(sweep(unit, 2, params$max - params$min, "*"), 2, params$min, "+")
   stats::setNames(as.data.frame(design), params$parameter)
 }
-
-# Evaluates `expr` with R's random number generator seeded, restoring the
-# caller's generator state afterwards; `seed = NULL` leaves it alone.
-with_seed <- function(seed, expr) {
-  if (is.null(seed)) {
-    return(expr)
-  }
-  check_count(seed)
-  old <- if (exists(".Random.seed", envir = globalenv())) get(".Random.seed", envir = globalenv())
-  on.exit(if (is.null(old)) rm(".Random.seed", envir = globalenv()) else
-    assign(".Random.seed", old, envir = globalenv()))
-  set.seed(seed)
-  expr
-}

@@ -23,12 +23,9 @@
 #' @examples
 #' check_convergence(seb_fit, warn = FALSE)
 check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, warn = TRUE) {
-  draws <- as_draws_array.koh_fit(fit)
-  draws <- posterior::subset_draws(draws, variable = setdiff(posterior::variables(draws), "lp__"))
-  ess_min <- ess_min %||% (100 * posterior::nchains(draws))
-  s <- posterior::summarise_draws(draws, rhat = posterior::rhat,
-                                  ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail)
-  s <- as.data.frame(lapply(s, function(col) as.vector(unclass(col))))
+  ess_min <- ess_min %||% (100 * fit$settings$chains)
+  s <- summarise_fit(fit, rhat = posterior::rhat,
+                     ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail)
   s$ok <- s$rhat < rhat_max & s$ess_bulk >= ess_min & s$ess_tail >= ess_min
   sampler <- sampler_diagnostics(fit$stanfit)
   out <- structure(s, class = c("koh_convergence", "data.frame"), sampler = sampler,

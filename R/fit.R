@@ -152,18 +152,14 @@ as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.ko
 #' summary(seb_fit)$parameters
 #' seb_fit
 summary.koh_fit <- function(object, ...) {
-  draws <- as_draws_array.koh_fit(object)
-  s <- posterior::summarise_draws(
-    posterior::subset_draws(draws, variable = setdiff(posterior::variables(draws), "lp__")),
-    mean = mean, sd = stats::sd,
+  s <- summarise_fit(
+    object, mean = mean, sd = stats::sd,
     quantiles = function(v) {
       stats::setNames(stats::quantile(v, c(0.05, 0.5, 0.95), names = FALSE),
                       c("q5", "q50", "q95"))
     },
     rhat = posterior::rhat, ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail
   )
-  # plain numeric columns, not posterior's pillar-formatted ones
-  s <- as.data.frame(lapply(s, function(col) as.vector(unclass(col))))
   is_tf <- s$variable %in% object$data$names$t
   structure(
     list(parameters = s[is_tf, , drop = FALSE],
@@ -173,6 +169,15 @@ summary.koh_fit <- function(object, ...) {
          sampler = sampler_diagnostics(object$stanfit)),
     class = "summary.koh_fit"
   )
+}
+
+# posterior::summarise_draws() over every variable of a fit but lp__, with
+# plain numeric columns (not posterior's pillar-formatted ones).
+summarise_fit <- function(fit, ...) {
+  draws <- as_draws_array.koh_fit(fit)
+  draws <- posterior::subset_draws(draws, variable = setdiff(posterior::variables(draws), "lp__"))
+  s <- posterior::summarise_draws(draws, ...)
+  as.data.frame(lapply(s, function(col) as.vector(unclass(col))))
 }
 
 #' @rdname summary.koh_fit
