@@ -33,9 +33,8 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
   draws <- predict_draws(fit, set$x, ndraws = ndraws)
   residual <- -sweep(draws$eta, 2, set$obs, "-")
   probs <- c((1 - level) / 2, (1 + level) / 2)
-  interval <- function(d) t(apply(d, 2, stats::quantile, probs = probs, names = FALSE))
-  delta_int <- interval(draws$delta)
-  residual_int <- interval(residual)
+  delta_int <- column_quantiles(draws$delta, probs)
+  residual_int <- column_quantiles(residual, probs)
   out <- data.frame(
     set$x[fit$data$names$x], point = seq_along(set$obs), obs = set$obs,
     delta_mean = colMeans(draws$delta), delta_lower = delta_int[, 1], delta_upper = delta_int[, 2],

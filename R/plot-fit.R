@@ -28,8 +28,7 @@ plot.koh_fit <- function(x, type = c("posteriors", "trace", "predictions", "comp
 # Box-plot statistics of each column of a draws matrix: whiskers at the 5 %
 # and 95 % quantiles, box at the quartiles.
 box_stats <- function(draws) {
-  q <- t(apply(draws, 2, stats::quantile, probs = c(0.05, 0.25, 0.5, 0.75, 0.95), names = FALSE))
-  data.frame(q5 = q[, 1], q25 = q[, 2], q50 = q[, 3], q75 = q[, 4], q95 = q[, 5])
+  as.data.frame(column_quantiles(draws, c(0.05, 0.25, 0.5, 0.75, 0.95)))
 }
 
 geom_quantile_box <- function(mapping, ...) {

@@ -155,11 +155,17 @@ scale_newdata <- function(data, newdata, arg = "newdata", call = rlang::caller_e
   scale_x(x, s)
 }
 
+# Quantiles of each column of a draws matrix: one row per column, one column
+# per probability, named q5, q50, ...
+column_quantiles <- function(draws, probs) {
+  q <- matrix(t(apply(draws, 2, stats::quantile, probs = probs, names = FALSE)),
+              ncol = length(probs))
+  colnames(q) <- paste0("q", signif(100 * probs, 3))
+  q
+}
+
 # Data frame of `inputs` with mean, sd and quantiles of each column of `draws`.
 summarise_columns <- function(draws, inputs, probs) {
-  q <- t(apply(draws, 2, stats::quantile, probs = probs, names = FALSE))
-  colnames(q) <- paste0("q", signif(100 * probs, 3))
-  out <- data.frame(inputs, mean = colMeans(draws), sd = apply(draws, 2, stats::sd),
-                    q, row.names = NULL)
-  out
+  data.frame(inputs, mean = colMeans(draws), sd = apply(draws, 2, stats::sd),
+             column_quantiles(draws, probs), row.names = NULL)
 }

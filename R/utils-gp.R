@@ -59,15 +59,26 @@ tf_distance <- function(tc, tf, beta_t) {
   colSums(beta_t * (t(tc) - as.vector(tf))^2)
 }
 
-# Sigma_z of z = (y, eta) for one draw (method section 1).
-koh_sigma_z <- function(g, par) {
+# The x and t parts of a draw's emulator correlations: the x weights and the
+# t part of the squared distances from tf to every design row.
+draw_geometry <- function(g, par) {
   p <- g$p
-  bx <- par$beta_eta[seq_len(p)]
-  d_tf <- tf_distance(g$tc, par$tf, par$beta_eta[-seq_len(p)])
-  s_ff <- exp(-weighted_sum(g$d_ff, bx)) / par$lambda_eta +
+  list(bx = par$beta_eta[seq_len(p)],
+       d_tf = tf_distance(g$tc, par$tf, par$beta_eta[-seq_len(p)]))
+}
+
+# Emulator covariance between points at tf (x differences `d_x` to the
+# design rows) and the design rows.
+cov_to_design <- function(d_x, dg, lambda_eta) {
+  exp(-sweep(weighted_sum(d_x, dg$bx), 2, dg$d_tf, "+")) / lambda_eta
+}
+
+# Sigma_z of z = (y, eta) for one draw (method section 1).
+koh_sigma_z <- function(g, par, dg = draw_geometry(g, par)) {
+  s_ff <- exp(-weighted_sum(g$d_ff, dg$bx)) / par$lambda_eta +
     exp(-weighted_sum(g$d_ff, par$beta_delta)) / par$lambda_delta
   diag(s_ff) <- diag(s_ff) + 1 / par$lambda_e + par$nugget
-  s_fc <- exp(-sweep(weighted_sum(g$d_fc, bx), 2, d_tf, "+")) / par$lambda_eta
+  s_fc <- cov_to_design(g$d_fc, dg, par$lambda_eta)
   s_cc <- exp(-weighted_sum(g$d_cc, par$beta_eta)) / par$lambda_eta
   diag(s_cc) <- diag(s_cc) + par$nugget
   rbind(cbind(s_ff, s_fc), cbind(t(s_fc), s_cc))
@@ -77,21 +88,18 @@ koh_sigma_z <- function(g, par) {
 # for one draw: mean S21 S11^-1 z and covariance S22 - S21 S11^-1 S12, with
 # one Cholesky factor of S11 = Sigma_z.
 koh_conditional <- function(g, par) {
-  p <- g$p
-  m <- g$m
-  bx <- par$beta_eta[seq_len(p)]
-  d_tf <- tf_distance(g$tc, par$tf, par$beta_eta[-seq_len(p)])
+  dg <- draw_geometry(g, par)
   n_new <- nrow(g$d_ss[[1]])
-  c_eta <- cbind(exp(-weighted_sum(g$d_sf, bx)),
-                 exp(-sweep(weighted_sum(g$d_sc, bx), 2, d_tf, "+"))) / par$lambda_eta
+  c_eta <- cbind(exp(-weighted_sum(g$d_sf, dg$bx)) / par$lambda_eta,
+                 cov_to_design(g$d_sc, dg, par$lambda_eta))
   c_delta <- cbind(exp(-weighted_sum(g$d_sf, par$beta_delta)) / par$lambda_delta,
-                   matrix(0, n_new, m))
+                   matrix(0, n_new, g$m))
   s21 <- rbind(c_eta, c_delta)
   s22 <- matrix(0, 2 * n_new, 2 * n_new)
-  s22[seq_len(n_new), seq_len(n_new)] <- exp(-weighted_sum(g$d_ss, bx)) / par$lambda_eta
+  s22[seq_len(n_new), seq_len(n_new)] <- exp(-weighted_sum(g$d_ss, dg$bx)) / par$lambda_eta
   s22[n_new + seq_len(n_new), n_new + seq_len(n_new)] <-
     exp(-weighted_sum(g$d_ss, par$beta_delta)) / par$lambda_delta
-  r <- chol(koh_sigma_z(g, par))
+  r <- chol(koh_sigma_z(g, par, dg))
   v <- backsolve(r, t(s21), transpose = TRUE)
   w <- backsolve(r, g$z, transpose = TRUE)
   list(mean = drop(crossprod(v, w)), cov = s22 - crossprod(v))
