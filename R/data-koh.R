@@ -10,6 +10,9 @@
 #' `eta`, then `x`, then `t`); name them with `y`, `eta`, `x` and `t` to pick
 #' columns by name instead (`x` names must then be in both tables).
 #'
+#' Simulation rows must be distinct: repeated runs with the same inputs and
+#' parameters make the emulator's covariance singular; average them first.
+#'
 #' Scaling (undone for every number shown to users):
 #' * `y` and `eta` are standardised with the mean and standard deviation of
 #'   `eta`;
@@ -23,9 +26,19 @@
 #' @param y,eta Names of the output column in `field` and in `sim`.
 #' @param x Names of the observable-input columns, present in both tables.
 #' @param t Names of the calibration-parameter columns in `sim`.
+#' @param grid_tol Tolerance, on the scaled \[0, 1\] input scale, within
+#'   which a simulation row's inputs count as a field row's. When every run
+#'   has one row at each field input within this tolerance, the design is a
+#'   grid: the simulation inputs are then taken to be the field inputs
+#'   exactly (tables written separately often differ in the last digits; the
+#'   shipped ones by about 1e-8), `print()` reports the largest difference,
+#'   and [calibrate()] can use the fast grid likelihood. Use `0` to require
+#'   identical values.
 #' @return An object of class `koh_data`: the scaled matrices `y`, `eta`,
-#'   `xf`, `xc`, `tc`, the column names, the sizes `n`, `m`, `p`, `q`, and
-#'   the `scaling` constants.
+#'   `xf`, `xc`, `tc`, the column names, the sizes `n`, `m`, `p`, `q`, the
+#'   `scaling` constants, and `grid`: the layout of the runs when every run
+#'   was made at every field input (`NULL` otherwise), which lets
+#'   [calibrate()] use the fast Kronecker likelihood.
 #' @family data preparation
 #' @export
 #' @examples
@@ -35,7 +48,7 @@
 #' koh_data(seb_field, seb_sim, y = "y", eta = "eta", x = c("temp", "rh", "solar"),
 #'          t = c("fan_total_efficiency", "equipment_power_density",
 #'                "infiltration_per_exterior_area"))
-koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL) {
+koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, grid_tol = 1e-6) {
   field <- as_numeric_table(field)
   sim <- as_numeric_table(sim)
   cols <- koh_columns(field, sim, y = y, eta = eta, x = x, t = t)
@@ -70,13 +83,19 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL) {
   check_varies(scaling$y_scale, cols$eta, "sim")
   check_varies(scaling$x_max - scaling$x_min, cols$x, "field and sim together")
   check_varies(scaling$t_max - scaling$t_min, cols$t, "sim")
+  check_distinct_runs(cbind(xc_raw, tc_raw))
+  xf <- scale_x(xf_raw, scaling)
+  xc <- scale_x(xc_raw, scaling)
+  tc <- scale_t(tc_raw, scaling)
+  grid <- grid_layout(xf, xc, tc, grid_tol)
+  # on a grid, simulation inputs are the field inputs (up to rounding)
+  if (!is.null(grid)) xc <- xf[grid$period, , drop = FALSE]
   structure(
     list(
       y = scale_y(field[[cols$y]], scaling),
       eta = scale_y(eta_raw, scaling),
-      xf = scale_x(xf_raw, scaling),
-      xc = scale_x(xc_raw, scaling),
-      tc = scale_t(tc_raw, scaling),
+      xf = xf, xc = xc, tc = tc,
+      grid = grid,
       names = cols,
       n = n, m = m, p = length(cols$x), q = q,
       scaling = scaling,
@@ -92,7 +111,10 @@ print.koh_data <- function(x, ...) {
   cat_lines("{.cls koh_data}: {x$n} field row{?s}, {x$m} simulation row{?s}",
             "* output: {.field {x$names$y}} (field), {.field {x$names$eta}} (simulation)",
             "* {x$p} observable input{?s} x: {.field {x$names$x}}",
-            "* {x$q} calibration parameter{?s} t: {.field {x$names$t}}")
+            "* {x$q} calibration parameter{?s} t: {.field {x$names$t}}",
+            if (!is.null(x$grid)) {
+              "* grid design: {x$grid$mt} runs at every field input (inputs matched within {signif(x$grid$max_diff, 2)} of their range)"
+            })
   invisible(x)
 }
 
@@ -165,6 +187,18 @@ check_numeric_complete <- function(d, cols, arg, call = rlang::caller_env()) {
                        i = "Remove or fill those rows before calibrating."),
                      "missing", call = call)
     }
+  }
+}
+
+# Two simulation rows with the same inputs and parameters make the emulator
+# covariance singular (a deterministic simulator gives them one output).
+check_distinct_runs <- function(xt, call = rlang::caller_env()) {
+  dup <- which(duplicated(xt))
+  if (length(dup) > 0L) {
+    first <- which(duplicated(xt, fromLast = TRUE))
+    abort_bayesbem(c("{.arg sim} has {length(dup)} duplicated row{?s} (same inputs and parameters): {.val {dup}}.",
+                     i = "Average the outputs of repeated runs, or drop the repeats (rows repeated: {.val {first}})."),
+                   "duplicated", call = call)
   }
 }
 

@@ -24,6 +24,14 @@
 #'   paper's Appendix D; about twice as slow). Read them with
 #'   `predict(fit, method = "sampled")`. [predict.koh_fit()] gives the same
 #'   predictions by exact conditioning after the fit, for any inputs.
+#' @param structure Which Stan program computes the likelihood: `"grid"`
+#'   (`koh_grid.stan`) when every simulation run was made at every field
+#'   input, as in the paper's workflow: the emulator covariance is then a
+#'   Kronecker product and each gradient costs O(mt^3 + n^3) for mt runs and
+#'   n field rows; `"dense"` (`koh.stan`) for any design, O((n + m)^3).
+#'   Both give the same posterior. `"auto"` (the default) uses the grid
+#'   program whenever the data allow it (see `koh_data()$grid`) and
+#'   `predict_at` is not given.
 #' @param ... Further arguments to [rstan::sampling()], e.g. `init` or
 #'   `refresh`.
 #' @return An object of class `koh_fit`: the `stanfit`, the [koh_data()]
@@ -39,7 +47,8 @@
 calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       iter = 2000L, warmup = floor(iter / 2), seed = NULL,
                       cores = getOption("mc.cores", 1L),
-                      control = list(adapt_delta = 0.9), predict_at = NULL, ...) {
+                      control = list(adapt_delta = 0.9), predict_at = NULL,
+                      structure = c("auto", "grid", "dense"), ...) {
   data <- if (inherits(field, "koh_data")) field else koh_data(field, sim)
   if (!inherits(priors, "koh_priors")) {
     abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
@@ -56,23 +65,53 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   }
   seed <- seed %||% sample.int(.Machine$integer.max, 1L)
   check_count(seed)
+  structure <- choose_structure(data, match.arg(structure), predict_at)
   x_pred <- if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at")
-  stan_data <- koh_stan_data(data, priors, x_pred)
+  stan_data <- koh_stan_data(data, priors, x_pred, structure)
+  model <- if (structure == "grid") stanmodels$koh_grid else stanmodels$koh
   stanfit <- muffle_rstan_diagnostics(
-    rstan::sampling(stanmodels$koh, data = stan_data, chains = chains,
+    rstan::sampling(model, data = stan_data, chains = chains,
                     iter = iter, warmup = warmup, seed = seed,
                     cores = min(cores, chains), control = control, ...)
   )
   if (stanfit@mode != 0L) {
-    abort_bayesbem(c("Stan could not sample the model.",
-                     i = "Rerun with {.code refresh = 1} to see Stan's messages."),
-                   "sampling")
+    abort_sampling_failure(data, priors$nugget, structure)
   }
   fit <- new_koh_fit(stanfit, data = data, priors = priors,
-                     settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed),
+                     settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
+                                     structure = structure),
                      predict_at = if (!is.null(predict_at)) predict_at[data$names$x])
   check_convergence(fit)
   fit
+}
+
+# Stan stops when a Cholesky factor fails at every initial value; Stan only
+# says "Matrix m is not positive definite". Name the matrix: the emulator's
+# correlation factors are tried at long length scales (rho up to 0.999),
+# where they are closest to singular.
+abort_sampling_failure <- function(data, nugget, structure, call = rlang::caller_env()) {
+  factors <- list("the correlation of the field inputs (K_x)" = data$xf)
+  if (structure == "grid") {
+    factors[["the correlation of the simulation runs (K_t)"]] <- data$grid$design
+  } else {
+    factors[["the correlation of the simulation rows"]] <- cbind(data$xc, data$tc)
+  }
+  singular <- names(factors)[vapply(factors, function(u) {
+    pair <- pair_geometry(u, u)
+    any(vapply(c(0.9, 0.99, 0.999), function(rho) {
+      inherits(try(chol(jittered_cor(pair, rep(-4 * log(rho), ncol(u)), nugget)), silent = TRUE),
+               "try-error")
+    }, logical(1)))
+  }, logical(1))]
+  if (length(singular) == 0L) {
+    abort_bayesbem(c("Stan could not sample the model.",
+                     i = "Rerun with {.code refresh = 1} to see Stan's messages."),
+                   "sampling", call = call)
+  }
+  abort_bayesbem(c("Stan could not sample the model: the Cholesky factor of {singular[1]} failed.",
+                   x = "With {.code nugget = {nugget}} it is not positive definite at long length scales.",
+                   i = "Raise {.arg nugget} in {.fn koh_priors} (e.g. {.code koh_priors(nugget = 1e-4)}), or drop nearly identical rows."),
+                 "cholesky", call = call)
 }
 
 # rstan's own convergence warnings are unclassed; check_convergence() reports

@@ -11,7 +11,9 @@
 #' and the hyperparameters gives the exact Gaussian conditional of
 #' `(eta, delta)` at the new inputs given all field and simulation data
 #' (mean `S21 S11^-1 z`, covariance `S22 - S21 S11^-1 S12`, one Cholesky
-#' factor per draw), from which one joint sample is drawn; so for every draw
+#' factor per draw; for grid designs, see [calibrate()], factors of the run
+#' and field-input correlations instead, so the cost grows as O(mt^3 + n^3)),
+#' from which one joint sample is drawn; so for every draw
 #' the `"y"` value is exactly the `"eta"` value plus the `"delta"` value
 #' (plus noise). Sampling uses R's random number generator: call
 #' [set.seed()] first for reproducible draws.
@@ -64,7 +66,7 @@ predict.koh_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"
 # sampled jointly per posterior draw so that y = eta + delta (+ noise).
 predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE) {
   data <- fit$data
-  g <- gp_geometry(data, scale_newdata(data, newdata))
+  g <- gp_geometry(data, scale_newdata(data, newdata), fit_structure(fit))
   pars <- draw_parameters(fit, ndraws)
   n_new <- nrow(newdata)
   joint <- vapply(pars, function(par) {
@@ -81,6 +83,11 @@ predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE) {
   }
   s <- data$scaling
   list(y = unscale_y(y, s), eta = unscale_y(eta, s), delta = unscale_y_spread(delta, s))
+}
+
+# The likelihood structure a fit was made with (fits made before 0.2.0 are dense).
+fit_structure <- function(fit) {
+  fit$settings$structure %||% "dense"
 }
 
 sampled_predictions <- function(fit, newdata, type, call = rlang::caller_env()) {

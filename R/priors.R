@@ -16,10 +16,14 @@
 #'   the emulator's and the discrepancy's correlation parameters.
 #' @param lambda_eta,lambda_delta,lambda_e Shape and rate `c(shape, rate)` of
 #'   the Gamma priors on the emulator, discrepancy and noise precisions.
-#' @param nugget A small number added to the diagonal of the emulator's
-#'   covariance (on the standardised scale) so that its Cholesky factor
-#'   exists when simulation runs nearly coincide. Not part of the paper's
-#'   model; the default `1e-6` changes no result that matters.
+#' @param nugget A small jitter that keeps the emulator's covariance
+#'   positive definite when inputs or runs nearly coincide. It is added to
+#'   each factor of the emulator kernel where rows are equal, the x factor
+#'   and the t factor separately, `(k_x + nugget) (k_t + nugget)` on the
+#'   diagonal, so that grid designs keep their Kronecker structure (see
+#'   [calibrate()], `structure`). Not part of the paper's model; the default
+#'   `1e-6` changes no result that matters. Raise it (e.g. to `1e-4`) if a
+#'   fit reports a covariance that is not positive definite.
 #' @return An object of class `koh_priors`.
 #' @family priors
 #' @export
@@ -141,10 +145,12 @@ print.koh_priors <- function(x, ...) {
   invisible(x)
 }
 
-# The data block of inst/stan/koh.stan for given data and priors; checks that
-# every tf prior names a parameter and that its mean lies in the design range.
-# `x_pred`: scaled inputs whose outputs Stan samples (the paper's Appendix D).
-koh_stan_data <- function(data, priors, x_pred = NULL, call = rlang::caller_env()) {
+# The data block of inst/stan/koh.stan (structure "dense") or koh_grid.stan
+# (structure "grid") for given data and priors; checks that every tf prior
+# names a parameter and that its mean lies in the design range. `x_pred`:
+# scaled inputs whose outputs Stan samples (the paper's Appendix D; dense only).
+koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
+                          call = rlang::caller_env()) {
   t_names <- data$names$t
   unknown <- setdiff(names(priors$tf), t_names)
   if (length(unknown) > 0L) {
@@ -170,17 +176,24 @@ koh_stan_data <- function(data, priors, x_pred = NULL, call = rlang::caller_env(
     mu[k] <- (pr$mu - lo) / (hi - lo)
     sd[k] <- pr$sd
   }
-  list(
-    n = data$n, m = data$m, p = data$p, q = q,
-    y = data$y, eta = data$eta, xf = data$xf, xc = data$xc, tc = data$tc,
+  prior_data <- list(
     tf_is_normal = as.array(is_normal), tf_mu = as.array(mu), tf_sd = as.array(sd),
     rho_eta_a = priors$rho_eta[1], rho_eta_b = priors$rho_eta[2],
     rho_delta_a = priors$rho_delta[1], rho_delta_b = priors$rho_delta[2],
     lambda_eta_shape = priors$lambda_eta[1], lambda_eta_rate = priors$lambda_eta[2],
     lambda_delta_shape = priors$lambda_delta[1], lambda_delta_rate = priors$lambda_delta[2],
     lambda_e_shape = priors$lambda_e[1], lambda_e_rate = priors$lambda_e[2],
-    nugget = priors$nugget,
-    n_pred = NROW(x_pred),
-    x_pred = if (is.null(x_pred)) matrix(0, 0, data$p) else x_pred
+    nugget = priors$nugget
   )
+  if (structure == "grid") {
+    grid <- data$grid
+    return(c(list(n = data$n, mt = grid$mt, p = data$p, q = q, y = data$y,
+                  eta = matrix(data$eta[grid$index], data$n), xf = data$xf, tc = grid$design),
+             prior_data))
+  }
+  c(list(n = data$n, m = data$m, p = data$p, q = q,
+         y = data$y, eta = data$eta, xf = data$xf, xc = data$xc, tc = data$tc),
+    prior_data,
+    list(n_pred = NROW(x_pred),
+         x_pred = if (is.null(x_pred)) matrix(0, 0, data$p) else x_pred))
 }

@@ -15,16 +15,39 @@ weighted_sum <- function(d, beta) {
   out
 }
 
-# The squared differences a fitted KOH model needs, for its data and,
-# optionally, for new (scaled) observable inputs `x_new`.
-gp_geometry <- function(data, x_new = NULL) {
-  g <- list(n = data$n, m = data$m, p = data$p, tc = data$tc, z = c(data$y, data$eta),
-            d_ff = sq_diffs(data$xf, data$xf), d_fc = sq_diffs(data$xf, data$xc),
-            d_cc = sq_diffs(cbind(data$xc, data$tc), cbind(data$xc, data$tc)))
+# Equal-row indicators of a and b, the rows where the kernel jitter applies.
+eq_rows <- function(a, b) {
+  outer(row_keys(a), row_keys(b), "==") + 0
+}
+
+# Squared differences and equal-row indicators of the rows of a and b.
+pair_geometry <- function(a, b) {
+  list(d = sq_diffs(a, b), eq = eq_rows(a, b))
+}
+
+# The geometry a fitted KOH model needs for its data and, optionally, for new
+# (scaled) observable inputs `x_new` at tf: pairs "ff" (field rows), "sf"
+# and "ss" (new rows), and, for the dense structure, "fc", "sc", "cc" (x of
+# simulation rows) and "tt" (t of simulation rows); for the grid structure,
+# "tt" over the runs and the output matrix `E` (field input by run).
+gp_geometry <- function(data, x_new = NULL, structure = "dense") {
+  g <- list(structure = structure, n = data$n, m = data$m, p = data$p, y = data$y,
+            ff = pair_geometry(data$xf, data$xf))
+  if (structure == "grid") {
+    g$tc <- data$grid$design
+    g$E <- matrix(data$eta[data$grid$index], data$n)
+    g$tt <- pair_geometry(g$tc, g$tc)
+  } else {
+    g$tc <- data$tc
+    g$z <- c(data$y, data$eta)
+    g$fc <- pair_geometry(data$xf, data$xc)
+    g$cc <- pair_geometry(data$xc, data$xc)
+    g$tt <- pair_geometry(data$tc, data$tc)
+  }
   if (!is.null(x_new)) {
-    g$d_sf <- sq_diffs(x_new, data$xf)
-    g$d_sc <- sq_diffs(x_new, data$xc)
-    g$d_ss <- sq_diffs(x_new, x_new)
+    g$sf <- pair_geometry(x_new, data$xf)
+    g$ss <- pair_geometry(x_new, x_new)
+    if (structure == "dense") g$sc <- pair_geometry(x_new, data$xc)
   }
   g
 }
@@ -59,50 +82,98 @@ tf_distance <- function(tc, tf, beta_t) {
   colSums(beta_t * (t(tc) - as.vector(tf))^2)
 }
 
-# The x and t parts of a draw's emulator correlations: the x weights and the
-# t part of the squared distances from tf to every design row.
+# One factor of the emulator kernel with its jitter (koh_functions.stan's
+# jittered_cor()): exp(-sum_k beta[k] d2_k) + nugget where rows are equal.
+jittered_cor <- function(pair, beta, nugget) {
+  exp(-weighted_sum(pair$d, beta)) + nugget * pair$eq
+}
+
+# Squared-exponential covariance of the discrepancy.
+delta_cov <- function(pair, par) {
+  exp(-weighted_sum(pair$d, par$beta_delta)) / par$lambda_delta
+}
+
+# A draw's x weights, t weights and correlations k_t(tf, t_a) to the design.
 draw_geometry <- function(g, par) {
-  p <- g$p
-  list(bx = par$beta_eta[seq_len(p)],
-       d_tf = tf_distance(g$tc, par$tf, par$beta_eta[-seq_len(p)]))
+  x <- seq_len(g$p)
+  bt <- par$beta_eta[-x]
+  list(bx = par$beta_eta[x], bt = bt, k0 = exp(-tf_distance(g$tc, par$tf, bt)))
 }
 
-# Emulator covariance between points at tf (x differences `d_x` to the
-# design rows) and the design rows.
-cov_to_design <- function(d_x, dg, lambda_eta) {
-  exp(-sweep(weighted_sum(d_x, dg$bx), 2, dg$d_tf, "+")) / lambda_eta
+# Emulator covariance of rows at tf (pair geometry `pair` to the field
+# rows, or to the simulation rows with `to_design = TRUE`).
+eta_cov <- function(pair, dg, par, to_design = FALSE) {
+  kx <- jittered_cor(pair, dg$bx, par$nugget)
+  t_factor <- if (to_design) rep(dg$k0, each = nrow(kx)) else 1 + par$nugget
+  kx * t_factor / par$lambda_eta
 }
 
-# Sigma_z of z = (y, eta) for one draw (method section 1).
+# Sigma_z of z = (y, eta) for one draw of a dense design (method section 1,
+# with the jitter of koh_cov()).
 koh_sigma_z <- function(g, par, dg = draw_geometry(g, par)) {
-  s_ff <- exp(-weighted_sum(g$d_ff, dg$bx)) / par$lambda_eta +
-    exp(-weighted_sum(g$d_ff, par$beta_delta)) / par$lambda_delta
-  diag(s_ff) <- diag(s_ff) + 1 / par$lambda_e + par$nugget
-  s_fc <- cov_to_design(g$d_fc, dg, par$lambda_eta)
-  s_cc <- exp(-weighted_sum(g$d_cc, par$beta_eta)) / par$lambda_eta
-  diag(s_cc) <- diag(s_cc) + par$nugget
+  s_ff <- eta_cov(g$ff, dg, par) + delta_cov(g$ff, par)
+  diag(s_ff) <- diag(s_ff) + 1 / par$lambda_e
+  s_fc <- eta_cov(g$fc, dg, par, to_design = TRUE)
+  s_cc <- jittered_cor(g$cc, dg$bx, par$nugget) * jittered_cor(g$tt, dg$bt, par$nugget) /
+    par$lambda_eta
   rbind(cbind(s_ff, s_fc), cbind(t(s_fc), s_cc))
 }
 
-# Joint conditional distribution of (eta(x_new, tf), delta(x_new)) given z,
-# for one draw: mean S21 S11^-1 z and covariance S22 - S21 S11^-1 S12, with
-# one Cholesky factor of S11 = Sigma_z.
+# Joint conditional distribution of (eta(x_new, tf), delta(x_new)) given the
+# data, for one draw: mean and covariance.
 koh_conditional <- function(g, par) {
+  if (g$structure == "grid") koh_conditional_grid(g, par) else koh_conditional_dense(g, par)
+}
+
+# Any design: mean S21 S11^-1 z and covariance S22 - S21 S11^-1 S12, with one
+# Cholesky factor of S11 = Sigma_z.
+koh_conditional_dense <- function(g, par) {
   dg <- draw_geometry(g, par)
-  n_new <- nrow(g$d_ss[[1]])
-  c_eta <- cbind(exp(-weighted_sum(g$d_sf, dg$bx)) / par$lambda_eta,
-                 cov_to_design(g$d_sc, dg, par$lambda_eta))
-  c_delta <- cbind(exp(-weighted_sum(g$d_sf, par$beta_delta)) / par$lambda_delta,
-                   matrix(0, n_new, g$m))
-  s21 <- rbind(c_eta, c_delta)
-  s22 <- matrix(0, 2 * n_new, 2 * n_new)
-  s22[seq_len(n_new), seq_len(n_new)] <- exp(-weighted_sum(g$d_ss, dg$bx)) / par$lambda_eta
-  s22[n_new + seq_len(n_new), n_new + seq_len(n_new)] <-
-    exp(-weighted_sum(g$d_ss, par$beta_delta)) / par$lambda_delta
+  n_new <- nrow(g$ss$eq)
+  s21 <- rbind(cbind(eta_cov(g$sf, dg, par), eta_cov(g$sc, dg, par, to_design = TRUE)),
+               cbind(delta_cov(g$sf, par), matrix(0, n_new, g$m)))
   r <- chol(koh_sigma_z(g, par, dg))
   v <- backsolve(r, t(s21), transpose = TRUE)
   w <- backsolve(r, g$z, transpose = TRUE)
-  list(mean = drop(crossprod(v, w)), cov = s22 - crossprod(v))
+  list(mean = drop(crossprod(v, w)), cov = new_rows_cov(g, dg, par) - crossprod(v))
+}
+
+# Prior covariance of (eta, delta) at the new rows: block diagonal.
+new_rows_cov <- function(g, dg, par) {
+  n_new <- nrow(g$ss$eq)
+  zero <- matrix(0, n_new, n_new)
+  rbind(cbind(eta_cov(g$ss, dg, par), zero), cbind(zero, delta_cov(g$ss, par)))
+}
+
+# Grid design, in two steps that never form Sigma_z. Given the runs E, the
+# emulator at rows u, v at tf has mean kx(u, xf) Kx^-1 E w and covariance
+# ((1 + a) kx(u, v) - s kx(u, xf) Kx^-1 kx(xf, v)) / lambda_eta, with
+# w = Kt^-1 k0, s = k0' w and a the nugget; in particular y | E is
+# N(E w, c Kx / lambda_eta + Sigma_delta + I / lambda_e), c = 1 + a - s.
+# The new rows are then conditioned on y. Cost O(mt^3 + n^3) per draw.
+koh_conditional_grid <- function(g, par) {
+  dg <- draw_geometry(g, par)
+  r_t <- chol(jittered_cor(g$tt, dg$bt, par$nugget))
+  v <- backsolve(r_t, dg$k0, transpose = TRUE)
+  s <- sum(v^2)
+  c_t <- 1 + par$nugget - s
+  mu_f <- drop(g$E %*% backsolve(r_t, v))
+  kx <- jittered_cor(g$ff, dg$bx, par$nugget)
+  r_x <- chol(kx)
+  kx_sf <- jittered_cor(g$sf, dg$bx, par$nugget)
+  u <- backsolve(r_x, t(kx_sf), transpose = TRUE)
+  mean_eta <- drop(crossprod(u, backsolve(r_x, mu_f, transpose = TRUE)))
+  prior <- new_rows_cov(g, dg, par)
+  eta_rows <- seq_len(nrow(kx_sf))
+  prior[eta_rows, eta_rows] <- prior[eta_rows, eta_rows] - s * crossprod(u) / par$lambda_eta
+  s_y <- c_t * kx / par$lambda_eta + delta_cov(g$ff, par)
+  diag(s_y) <- diag(s_y) + 1 / par$lambda_e
+  r_y <- chol(s_y)
+  gain <- backsolve(r_y, t(rbind(c_t * kx_sf / par$lambda_eta, delta_cov(g$sf, par))),
+                    transpose = TRUE)
+  h <- backsolve(r_y, g$y - mu_f, transpose = TRUE)
+  list(mean = c(mean_eta, rep(0, length(eta_rows))) + drop(crossprod(gain, h)),
+       cov = prior - crossprod(gain))
 }
 
 # One draw from N(mean, cov) for a covariance that may be singular to

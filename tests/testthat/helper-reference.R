@@ -17,10 +17,9 @@ reference_log_density <- function(sd, pars) {
   sigma <- matrix(0, N, N)
   for (i in seq_len(N)) {
     for (j in seq_len(N)) {
-      sigma[i, j] <- exp(-sum(beta_eta * (u[i, ] - u[j, ])^2)) / pars$lambda_eta
+      sigma[i, j] <- reference_eta_cov(u[i, ], u[j, ], sd, beta_eta, pars$lambda_eta)
     }
   }
-  diag(sigma) <- diag(sigma) + sd$nugget
   for (i in seq_len(n)) {
     for (j in seq_len(n)) {
       sigma[i, j] <- sigma[i, j] +
@@ -46,6 +45,16 @@ reference_log_density <- function(sd, pars) {
     stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE)
 }
 
+# Emulator covariance of rows u and v = (x, t): the product kernel with the
+# nugget on each factor where the factor's inputs are equal.
+reference_eta_cov <- function(u, v, sd, beta_eta, lambda_eta) {
+  x <- seq_len(sd$p)
+  factor <- function(k) {
+    exp(-sum(beta_eta[k] * (u[k] - v[k])^2)) + sd$nugget * all(u[k] == v[k])
+  }
+  factor(x) * factor(-x) / lambda_eta
+}
+
 random_koh_pars <- function(sd) {
   list(tf = as.array(stats::runif(sd$q)),
        y_pred = as.array(stats::rnorm(sd$n_pred)),
@@ -56,9 +65,12 @@ random_koh_pars <- function(sd) {
        lambda_e = stats::rgamma(1, 10, 0.03))
 }
 
-# The compiled KOH model with data `sd`, without sampling, for log_prob().
-koh_model_for <- function(sd) {
-  utils::capture.output(model <- rstan::sampling(bayesbem:::stanmodels$koh, data = sd, chains = 0))
+# The compiled KOH model ("koh" or "koh_grid") with data `sd`, without
+# sampling, for log_prob().
+koh_model_for <- function(sd, program = "koh") {
+  utils::capture.output(
+    model <- rstan::sampling(bayesbem:::stanmodels[[program]], data = sd, chains = 0)
+  )
   model
 }
 
@@ -75,11 +87,10 @@ reference_conditional <- function(sd, pars, x_new) {
   m <- sd$m
   k <- nrow(x_new)
   tf_rows <- function(x) cbind(x, matrix(pars$tf, nrow(x), sd$q, byrow = TRUE))
-  # every variable: its (x, t) row, whether it carries eta, delta, noise, nugget
+  # every variable: its (x, t) row, whether it carries eta, delta, noise
   u <- rbind(tf_rows(sd$xf), cbind(sd$xc, sd$tc), tf_rows(x_new), tf_rows(x_new))
   has_eta <- c(rep(TRUE, n + m + k), rep(FALSE, k))
   has_delta <- c(rep(TRUE, n), rep(FALSE, m + k), rep(TRUE, k))
-  is_train <- c(rep(TRUE, n + m), rep(FALSE, 2 * k))
   is_field <- c(rep(TRUE, n), rep(FALSE, m + 2 * k))
   beta_eta <- -4 * log(pars$rho_eta)
   beta_delta <- -4 * log(pars$rho_delta)
@@ -89,14 +100,13 @@ reference_conditional <- function(sd, pars, x_new) {
     for (j in seq_len(total)) {
       v <- 0
       if (has_eta[i] && has_eta[j]) {
-        v <- v + exp(-sum(beta_eta * (u[i, ] - u[j, ])^2)) / pars$lambda_eta
+        v <- v + reference_eta_cov(u[i, ], u[j, ], sd, beta_eta, pars$lambda_eta)
       }
       if (has_delta[i] && has_delta[j]) {
         xi <- u[i, seq_len(sd$p)]
         xj <- u[j, seq_len(sd$p)]
         v <- v + exp(-sum(beta_delta * (xi - xj)^2)) / pars$lambda_delta
       }
-      if (i == j && is_train[i]) v <- v + sd$nugget
       if (i == j && is_field[i]) v <- v + 1 / pars$lambda_e
       cov[i, j] <- v
     }

@@ -75,4 +75,8 @@ test_that("bad input gets classed errors that say what to fix", {
   expect_snapshot(koh_data(seb_field, seb_sim[1:4, ]), error = TRUE)
 
   expect_snapshot(koh_data(list(1, 2), seb_sim), error = TRUE)
+
+  repeated <- seb_sim[c(1:120, 5, 17), ]
+  expect_error(koh_data(seb_field, repeated), class = "bayesbem_error_duplicated")
+  expect_snapshot(koh_data(seb_field, repeated), error = TRUE)
 })

@@ -34,6 +34,62 @@ test_that("the Stan log density matches on other sizes, with outputs sampled in 
   }
 })
 
+# A random grid problem: every run at every field input, rows shuffled.
+random_grid_data <- function(n = 7, runs = 5) {
+  x <- matrix(runif(n * 2), n, 2, dimnames = list(NULL, c("a", "b")))
+  design <- cbind(k1 = runif(runs, 0, 3), k2 = runif(runs, 10, 20), k3 = runif(runs))
+  sim <- do.call(rbind, lapply(seq_len(runs), function(r) {
+    data.frame(eta = rnorm(n, 5), x, t(design[r, ]))
+  }))
+  koh_data(data.frame(y = rnorm(n, 5), x), sim[sample(nrow(sim)), ])
+}
+
+test_that("the grid program's log density equals the dense program's", {
+  skip_on_cran()
+  withr::local_seed(11)
+  random <- random_grid_data()
+  k2_mid <- (random$scaling$t_min[["k2"]] + random$scaling$t_max[["k2"]]) / 2
+  problems <- list(
+    shipped = list(d = koh_data(seb_field, seb_sim),
+                   priors = koh_priors(tf = prior_level("weak", c(equipment_power_density = 20)))),
+    random = list(d = random, priors = koh_priors(tf = list(k2 = prior_normal(k2_mid, 0.05)),
+                                                  nugget = 1e-4))
+  )
+  for (pr in problems) {
+    dense <- bayesbem:::koh_stan_data(pr$d, pr$priors, structure = "dense")
+    grid <- bayesbem:::koh_stan_data(pr$d, pr$priors, structure = "grid")
+    model_dense <- koh_model_for(dense)
+    model_grid <- koh_model_for(grid, "koh_grid")
+    for (i in 1:4) {
+      pars <- random_koh_pars(dense)
+      lp_grid <- stan_log_density(model_grid, pars[names(pars) != "y_pred"])
+      expect_equal(lp_grid, stan_log_density(model_dense, pars), tolerance = 1e-8)
+      expect_equal(lp_grid, reference_log_density(dense, pars), tolerance = 1e-8)
+    }
+  }
+})
+
+test_that("a failing Cholesky factor is named, with the fix", {
+  skip_on_cran()
+  # months 1 and 2 at inputs 1e-10 apart: K_x is singular without a nugget
+  x <- c("temp", "rh", "solar")
+  index <- koh_data(seb_field, seb_sim)$grid$index
+  field <- seb_field
+  field[x] <- seb_sim[index[, 1], x]
+  field[2, x] <- field[1, x] + c(1e-10, 0, 0)
+  sim <- seb_sim
+  sim[index, x] <- field[row(index), x]
+  d <- koh_data(field, sim, grid_tol = 0)
+  expect_false(is.null(d$grid))
+  expect_error(calibrate(d, priors = koh_priors(nugget = 0), chains = 1, iter = 20, seed = 1,
+                         refresh = 0),
+               class = "bayesbem_error_cholesky")
+  expect_snapshot(
+    calibrate(d, priors = koh_priors(nugget = 0), chains = 1, iter = 20, seed = 1, refresh = 0),
+    error = TRUE
+  )
+})
+
 test_that("a small fit of the case study finds the equipment power density", {
   skip_on_cran()
   fit <- shared_fit()

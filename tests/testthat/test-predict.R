@@ -6,14 +6,18 @@ test_that("conditioning equals a brute-force dense computation on a tiny problem
   sim <- do.call(rbind, lapply(1:3, function(r) data.frame(eta = rnorm(n), x, k = design[r])))
   d <- koh_data(data.frame(y = rnorm(n), x), sim)
   sd <- bayesbem:::koh_stan_data(d, koh_priors())
-  x_new <- matrix(runif(6), 3, 2)
-  g <- bayesbem:::gp_geometry(d, x_new)
-  for (i in 1:3) {
-    pars <- random_koh_pars(sd)
-    ours <- bayesbem:::koh_conditional(g, as_draw_pars(pars, sd$nugget))
-    brute <- reference_conditional(sd, pars, x_new)
-    expect_equal(ours$mean, brute$mean, tolerance = 1e-8)
-    expect_equal(ours$cov, brute$cov, tolerance = 1e-8)
+  # new rows off the data and on a field input, where the jitter applies
+  x_new <- rbind(matrix(runif(6), 3, 2), d$xf[2, ])
+  expect_false(is.null(d$grid))
+  for (structure in c("dense", "grid")) {
+    g <- bayesbem:::gp_geometry(d, x_new, structure)
+    for (i in 1:3) {
+      pars <- random_koh_pars(sd)
+      ours <- bayesbem:::koh_conditional(g, as_draw_pars(pars, sd$nugget))
+      brute <- reference_conditional(sd, pars, x_new)
+      expect_equal(ours$mean, brute$mean, tolerance = 1e-8)
+      expect_equal(ours$cov, brute$cov, tolerance = 1e-8)
+    }
   }
 })
 
@@ -51,7 +55,7 @@ test_that("the conditional and the sampled (Appendix D) routes agree", {
   expect_equal(sampled[c("temp", "rh", "solar")], shared_predict_at(), ignore_attr = TRUE)
   # Rao-Blackwellised conditional means over the same posterior draws
   x_new <- bayesbem:::scale_newdata(fit$data, shared_predict_at())
-  g <- bayesbem:::gp_geometry(fit$data, x_new)
+  g <- bayesbem:::gp_geometry(fit$data, x_new, "dense")
   cond <- vapply(bayesbem:::draw_parameters(fit), function(par) {
     mu <- bayesbem:::koh_conditional(g, par)$mean
     mu[1:3] + mu[4:6]

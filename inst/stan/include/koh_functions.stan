@@ -23,25 +23,77 @@
     return to_matrix(exp(neg_d2 * append_row(beta, log(lambda))), nr, nc);
   }
 
-  /* Sigma_z of z = (y, eta) (method section 1): Sigma_eta over all rows,
-   * plus Sigma_delta + I / lambda_e on the field block, plus a nugget on the
-   * diagonal of Sigma_eta. Field rows all sit at tf, so the t part of their
-   * distances to each other is zero and to the design rows is one row vector. */
-  matrix koh_cov(int n, matrix nd2_ff, matrix nd2_fc, matrix nd2_cc, matrix tc, row_vector tf,
-                 vector beta_eta, vector beta_delta,
+  /* 1 where row i of u equals row j of v, else 0: the indicator the jitter
+   * (nugget) of each kernel factor multiplies. */
+  matrix equal_rows(matrix u, matrix v) {
+    matrix[rows(u), rows(v)] eq;
+    for (j in 1:rows(v)) {
+      for (i in 1:rows(u)) {
+        eq[i, j] = dot_self(u[i] - v[j]) == 0 ? 1 : 0;
+      }
+    }
+    return eq;
+  }
+
+  /* One factor of the emulator kernel with its jitter: the correlation
+   * exp(-sum_k beta[k] * d2_k) plus nugget where the rows are equal. The
+   * jitter sits on the x and t factors separately, (k_x + a)(k_t + a) on the
+   * diagonal, so that grid designs keep their Kronecker structure. */
+  matrix jittered_cor(matrix neg_d2, matrix eq, vector beta, real nugget) {
+    return sq_exp_cov(neg_d2, beta, 1, rows(eq), cols(eq)) + nugget * eq;
+  }
+
+  /* Correlations k_t(tf, t_a) between tf and each design row. */
+  vector tf_cor(row_vector tf, matrix tc, vector beta_t) {
+    matrix[rows(tc), cols(tc)] diff = rep_matrix(tf, rows(tc)) - tc;
+    return exp(-(diff .* diff) * beta_t);
+  }
+
+  /* Sigma_z of z = (y, eta) for any design (method section 1): the product
+   * kernel Sigma_eta over all rows, plus Sigma_delta + I / lambda_e on the
+   * field block. Field rows all sit at tf, so their t factor is 1 + nugget
+   * between each other and one row vector k(tf, t_j) to the design rows. */
+  matrix koh_cov(matrix nd2_ff, matrix nd2_fc, matrix nd2_cc, matrix nd2_tt,
+                 matrix eq_ff, matrix eq_fc, matrix eq_cc, matrix eq_tt,
+                 matrix tc, row_vector tf, vector beta_eta, vector beta_delta,
                  real lambda_eta, real lambda_delta, real lambda_e, real nugget) {
-    int p = rows(beta_delta);
-    int q = cols(tc);
+    int n = rows(eq_ff);
     int m = rows(tc);
-    matrix[m, q] tf_minus_tc = rep_matrix(tf, m) - tc;
-    row_vector[m] d2_tf = ((tf_minus_tc .* tf_minus_tc) * tail(beta_eta, q))';
-    matrix[n, m] sigma_fc = exp(to_matrix(nd2_fc * append_row(head(beta_eta, p), log(lambda_eta)), n, m)
-                                - rep_matrix(d2_tf, n));
-    matrix[n, n] sigma_ff = sq_exp_cov(nd2_ff, head(beta_eta, p), lambda_eta, n, n)
+    int p = rows(beta_delta);
+    vector[p] beta_x = head(beta_eta, p);
+    matrix[n, m] sigma_fc = jittered_cor(nd2_fc, eq_fc, beta_x, nugget)
+                            .* rep_matrix(tf_cor(tf, tc, tail(beta_eta, cols(tc)))', n) / lambda_eta;
+    matrix[n, n] sigma_ff = (1 + nugget) * jittered_cor(nd2_ff, eq_ff, beta_x, nugget) / lambda_eta
                             + sq_exp_cov(nd2_ff, beta_delta, lambda_delta, n, n);
-    matrix[m, m] sigma_cc = sq_exp_cov(nd2_cc, beta_eta, lambda_eta, m, m);
-    return append_row(append_col(add_diag(sigma_ff, 1 / lambda_e + nugget), sigma_fc),
-                      append_col(sigma_fc', add_diag(sigma_cc, nugget)));
+    matrix[m, m] sigma_cc = jittered_cor(nd2_cc, eq_cc, beta_x, nugget)
+                            .* jittered_cor(nd2_tt, eq_tt, tail(beta_eta, cols(tc)), nugget) / lambda_eta;
+    return append_row(append_col(add_diag(sigma_ff, 1 / lambda_e), sigma_fc),
+                      append_col(sigma_fc', sigma_cc));
+  }
+
+  /* Log density of the KOH model on a grid design (every run made at the n
+   * field inputs), exactly that of koh_cov() without forming it. E holds the
+   * simulator output of run a at period i in E[i, a]; Kx and Kt are the
+   * jittered x and run correlations, k0 = k_t(tf, t_a). Then
+   *   vec(E) ~ N(0, Kt (x) Kx / lambda_eta)
+   *   y | E ~ N(E Kt^-1 k0, c Kx / lambda_eta + Sigma_delta + I / lambda_e)
+   * with c = 1 + nugget - k0' Kt^-1 k0 (inst/notes/design.md, "Grid designs"). */
+  real koh_grid_lpdf(vector y, matrix E, matrix Kx, matrix Kt, vector k0,
+                     matrix sigma_delta, real lambda_eta, real lambda_e, real nugget) {
+    int n = rows(E);
+    int mt = cols(E);
+    matrix[n, n] Lx = cholesky_decompose(Kx);
+    matrix[mt, mt] Lt = cholesky_decompose(Kt);
+    // Lx^-1 E Lt^-T, whose squared norm is the Kronecker quadratic form
+    matrix[n, mt] white = mdivide_left_tri_low(Lt, mdivide_left_tri_low(Lx, E)')';
+    vector[mt] v = mdivide_left_tri_low(Lt, k0);
+    vector[mt] w = mdivide_right_tri_low(v', Lt)';   // Kt^-1 k0
+    real c = 1 + nugget - dot_self(v);
+    matrix[n, n] sigma_y = add_diag(c * Kx / lambda_eta + sigma_delta, 1 / lambda_e);
+    real lp_eta = -0.5 * (n * mt * log(2 * pi()) - n * mt * log(lambda_eta)
+                          + 2 * n * sum(log(diagonal(Lt))) + 2 * mt * sum(log(diagonal(Lx)))
+                          + lambda_eta * sum(columns_dot_self(white)));
+    return lp_eta + multi_normal_cholesky_lpdf(y | E * w, cholesky_decompose(sigma_y));
   }
 
   /* Log prior of tf on [0, 1]: U(0, 1) where is_normal[k] is 0, otherwise

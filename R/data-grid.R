@@ -1,0 +1,64 @@
+# Grid designs: every simulation run made at the field inputs (x_c = x_f),
+# as in the paper's workflow. Then Sigma_eta is the Kronecker product of a
+# run correlation and a field-input correlation, which koh_grid.stan and the
+# grid prediction code exploit (inst/notes/design.md, "Grid designs").
+
+# The grid layout of scaled field inputs `xf`, simulation inputs `xc` and
+# design `tc`, or NULL when they do not form a full grid: distinct field
+# inputs, and every run (distinct row of tc) has exactly one row at each
+# field input, in any order. A simulation row is at a field input when every
+# scaled input is within `tol` of it (tables written separately differ by
+# rounding). `index[i, a]` is the simulation row of run a at field input i;
+# `max_diff` the largest difference matched.
+grid_layout <- function(xf, xc, tc, tol = 0) {
+  dist <- function(a, b) {
+    Reduce(pmax, lapply(seq_len(ncol(a)), function(k) abs(outer(a[, k], b[, k], "-"))))
+  }
+  d_ff <- dist(xf, xf)
+  diag(d_ff) <- Inf
+  if (any(d_ff <= tol)) {
+    return(NULL)
+  }
+  d_cf <- dist(xc, xf)
+  period <- max.col(-d_cf, ties.method = "first")
+  matched <- d_cf[cbind(seq_along(period), period)]
+  run_key <- row_keys(tc)
+  run <- match(run_key, unique(run_key))
+  n <- nrow(xf)
+  mt <- max(run)
+  if (any(matched > tol) || mt < 2L || length(period) != n * mt ||
+      anyDuplicated(cbind(period, run)) > 0L) {
+    return(NULL)
+  }
+  index <- matrix(NA_integer_, n, mt)
+  index[cbind(period, run)] <- seq_along(period)
+  list(n = n, mt = mt, index = index, design = tc[index[1, ], , drop = FALSE],
+       period = period, max_diff = max(matched))
+}
+
+# Exact keys of matrix rows (hexadecimal doubles), so that rows match only
+# when every value is identical, as Stan's equal_rows() requires.
+row_keys <- function(x) {
+  apply(x, 1, function(r) paste(sprintf("%a", r), collapse = " "))
+}
+
+# Which likelihood to use: "grid" when the design is a grid and nothing
+# rules it out, else "dense"; `structure` forces either.
+choose_structure <- function(data, structure, predict_at = NULL, call = rlang::caller_env()) {
+  if (structure == "dense") {
+    return("dense")
+  }
+  grid_ok <- !is.null(data$grid) && is.null(predict_at)
+  if (structure == "grid" && !grid_ok) {
+    reason <- if (is.null(data$grid)) {
+      c(x = "The simulation table is not a full grid over the field inputs.",
+        i = "A grid has every run at every field input, and distinct field inputs.")
+    } else {
+      c(x = "{.arg predict_at} needs the dense program.",
+        i = "Predict after the fit with {.fn predict} instead.")
+    }
+    abort_bayesbem(c("{.code structure = \"grid\"} cannot be used.", reason),
+                   "argument", call = call)
+  }
+  if (grid_ok) "grid" else "dense"
+}

@@ -1,0 +1,16 @@
+  // tf prior per parameter: 1 = truncated normal(tf_mu, tf_sd), 0 = U(0, 1)
+  vector<lower=0, upper=1>[q] tf_is_normal;
+  vector<lower=0, upper=1>[q] tf_mu;
+  vector<lower=0>[q] tf_sd;
+  // hyperpriors: rho ~ beta(a, b); lambda ~ gamma(shape, rate)
+  real<lower=0> rho_eta_a;
+  real<lower=0> rho_eta_b;
+  real<lower=0> rho_delta_a;
+  real<lower=0> rho_delta_b;
+  real<lower=0> lambda_eta_shape;
+  real<lower=0> lambda_eta_rate;
+  real<lower=0> lambda_delta_shape;
+  real<lower=0> lambda_delta_rate;
+  real<lower=0> lambda_e_shape;
+  real<lower=0> lambda_e_rate;
+  real<lower=0> nugget;                  // jitter on each emulator kernel factor

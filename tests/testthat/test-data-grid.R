@@ -1,0 +1,38 @@
+test_that("the shipped design is a grid, in any row order", {
+  d <- koh_data(seb_field, seb_sim)
+  expect_equal(d$grid$n, 12)
+  expect_equal(d$grid$mt, 10)
+  # index[i, a] is the simulation row of run a at field input i
+  expect_equal(d$xc[d$grid$index[, 3], ], d$xf, ignore_attr = TRUE)
+  expect_equal(d$tc[d$grid$index[5, ], ], d$grid$design)
+  withr::local_seed(1)
+  shuffled <- koh_data(seb_field, seb_sim[sample(120), ])
+  # the same outputs per (field input, run), runs numbered by first appearance
+  by_run <- function(x) {
+    e <- matrix(x$eta[x$grid$index], 12)
+    e[, order(x$grid$design[, 1])]
+  }
+  expect_equal(by_run(shuffled), by_run(d))
+})
+
+test_that("incomplete grids and repeated field inputs are not grids", {
+  expect_null(koh_data(seb_field, seb_sim[-7, ])$grid)
+  moved <- seb_sim
+  moved$temp[1] <- moved$temp[1] + 0.01
+  expect_null(koh_data(seb_field, moved)$grid)
+  field <- seb_field
+  field[2, c("temp", "rh", "solar")] <- field[1, c("temp", "rh", "solar")]
+  expect_null(koh_data(field, seb_sim)$grid)
+})
+
+test_that("the likelihood structure is chosen automatically or forced", {
+  d <- koh_data(seb_field, seb_sim)
+  expect_equal(bayesbem:::choose_structure(d, "auto"), "grid")
+  expect_equal(bayesbem:::choose_structure(d, "dense"), "dense")
+  expect_equal(bayesbem:::choose_structure(d, "auto", predict_at = seb_field[1, 2:4]), "dense")
+  not_grid <- koh_data(seb_field, seb_sim[-7, ])
+  expect_equal(bayesbem:::choose_structure(not_grid, "auto"), "dense")
+  expect_error(calibrate(not_grid, structure = "grid"), class = "bayesbem_error_argument")
+  expect_snapshot(calibrate(not_grid, structure = "grid"), error = TRUE)
+  expect_snapshot(calibrate(d, structure = "grid", predict_at = seb_field[1, 2:4]), error = TRUE)
+})
