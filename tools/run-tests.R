@@ -2,6 +2,11 @@
 # "N passed, N failed, N skipped" (expectations); exits 1 on any failure.
 # Usage, from the package root: Rscript tools/run-tests.R
 Sys.setenv(NOT_CRAN = "true")
+# EnergyPlus tests use the project's shared build when no other is configured
+shared_eplus <- file.path("..", "shared", "energyplus")
+if (!nzchar(Sys.getenv("BAYESBEM_EPLUS")) && dir.exists(shared_eplus)) {
+  Sys.setenv(BAYESBEM_EPLUS = normalizePath(shared_eplus))
+}
 results <- testthat::test_dir("tests/testthat", package = "bayesbem",
                               load_package = "installed", stop_on_failure = FALSE,
                               reporter = testthat::ProgressReporter$new(show_praise = FALSE))
