@@ -4,12 +4,15 @@
 # grid prediction code exploit (inst/notes/design.md, "Grid designs").
 
 # The grid layout of scaled field inputs `xf`, simulation inputs `xc` and
-# design `tc`, or NULL when they do not form a full grid: distinct field
-# inputs, and every run (distinct row of tc) has exactly one row at each
-# field input, in any order. A simulation row is at a field input when every
-# scaled input is within `tol` of it (tables written separately differ by
-# rounding). `index[i, a]` is the simulation row of run a at field input i;
-# `max_diff` the largest difference matched.
+# design `tc`, or NULL when they do not form a full grid. The grid inputs are
+# the field inputs (distinct) followed by any further simulation inputs
+# (e.g. of held-out periods); every run (distinct row of tc) must have
+# exactly one row at each grid input, in any order. A simulation row is at a
+# field input when every scaled input is within `tol` of it (tables written
+# separately differ by rounding). Returns the grid inputs `x` (field rows
+# first), `index[i, a]` (the simulation row of run a at grid input i), the
+# run `design`, each simulation row's grid input `period`, and `max_diff`,
+# the largest difference matched.
 grid_layout <- function(xf, xc, tc, tol = 0) {
   dist <- function(a, b) {
     Reduce(pmax, lapply(seq_len(ncol(a)), function(k) abs(outer(a[, k], b[, k], "-"))))
@@ -19,21 +22,26 @@ grid_layout <- function(xf, xc, tc, tol = 0) {
   if (any(d_ff <= tol)) {
     return(NULL)
   }
+  n <- nrow(xf)
   d_cf <- dist(xc, xf)
-  period <- max.col(-d_cf, ties.method = "first")
-  matched <- d_cf[cbind(seq_along(period), period)]
+  nearest <- max.col(-d_cf, ties.method = "first")
+  gap <- d_cf[cbind(seq_along(nearest), nearest)]
+  matched <- gap <= tol
+  extra_key <- row_keys(xc[!matched, , drop = FALSE])
+  period <- nearest
+  period[!matched] <- n + match(extra_key, unique(extra_key))
+  x <- rbind(xf, xc[!matched, , drop = FALSE][!duplicated(extra_key), , drop = FALSE])
   run_key <- row_keys(tc)
   run <- match(run_key, unique(run_key))
-  n <- nrow(xf)
   mt <- max(run)
-  if (any(matched > tol) || mt < 2L || length(period) != n * mt ||
-      anyDuplicated(cbind(period, run)) > 0L) {
+  if (mt < 2L || length(period) != nrow(x) * mt || anyDuplicated(cbind(period, run)) > 0L) {
     return(NULL)
   }
-  index <- matrix(NA_integer_, n, mt)
+  index <- matrix(NA_integer_, nrow(x), mt)
   index[cbind(period, run)] <- seq_along(period)
-  list(n = n, mt = mt, index = index, design = tc[index[1, ], , drop = FALSE],
-       period = period, max_diff = max(matched))
+  list(n = n, n_x = nrow(x), mt = mt, x = x, index = index,
+       design = tc[index[1, ], , drop = FALSE], period = period,
+       max_diff = max(c(0, gap[matched])))
 }
 
 # Exact keys of matrix rows (hexadecimal doubles), so that rows match only
@@ -52,7 +60,7 @@ choose_structure <- function(data, structure, predict_at = NULL, call = rlang::c
   if (structure == "grid" && !grid_ok) {
     reason <- if (is.null(data$grid)) {
       c(x = "The simulation table is not a full grid over the field inputs.",
-        i = "A grid has every run at every field input, and distinct field inputs.")
+        i = "A grid has every run at every field input (and at any further inputs), and distinct field inputs.")
     } else {
       c(x = "{.arg predict_at} needs the dense program.",
         i = "Predict after the fit with {.fn predict} instead.")

@@ -37,8 +37,9 @@
 #' @return An object of class `koh_data`: the scaled matrices `y`, `eta`,
 #'   `xf`, `xc`, `tc`, the column names, the sizes `n`, `m`, `p`, `q`, the
 #'   `scaling` constants, and `grid`: the layout of the runs when every run
-#'   was made at every field input (`NULL` otherwise), which lets
-#'   [calibrate()] use the fast Kronecker likelihood.
+#'   was made at every field input, and possibly at further inputs such as
+#'   those of held-out periods (`NULL` otherwise), which lets [calibrate()]
+#'   use the fast Kronecker likelihood.
 #' @family data preparation
 #' @export
 #' @examples
@@ -88,8 +89,8 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, grid_
   xc <- scale_x(xc_raw, scaling)
   tc <- scale_t(tc_raw, scaling)
   grid <- grid_layout(xf, xc, tc, grid_tol)
-  # on a grid, simulation inputs are the field inputs (up to rounding)
-  if (!is.null(grid)) xc <- xf[grid$period, , drop = FALSE]
+  # on a grid, simulation inputs at field inputs are those (up to rounding)
+  if (!is.null(grid)) xc <- grid$x[grid$period, , drop = FALSE]
   structure(
     list(
       y = scale_y(field[[cols$y]], scaling),
@@ -113,7 +114,7 @@ print.koh_data <- function(x, ...) {
             "* {x$p} observable input{?s} x: {.field {x$names$x}}",
             "* {x$q} calibration parameter{?s} t: {.field {x$names$t}}",
             if (!is.null(x$grid)) {
-              "* grid design: {x$grid$mt} runs at every field input (inputs matched within {signif(x$grid$max_diff, 2)} of their range)"
+              "* grid design: {x$grid$mt} runs at {x$grid$n_x} inputs, the {x$n} field inputs among them (matched within {signif(x$grid$max_diff, 2)} of their range)"
             })
   invisible(x)
 }

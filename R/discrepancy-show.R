@@ -4,8 +4,12 @@
 #' physical units and as a share of the measured output: the model
 #' discrepancy `delta(x)`, and the simulator residual `y - eta(x, tf)`
 #' (discrepancy plus noise). A point is flagged where the central interval of
-#' `delta` excludes zero. The verdict names the flagged points and the sign:
-#' a positive discrepancy means the simulator under-predicts.
+#' the simulator residual excludes zero: there the simulator, at its
+#' calibrated parameters, misses the measurement by more than the model's
+#' uncertainty. (The interval of `delta` alone is often wider, because the
+#' calibration parameters can trade a shift of the output against the
+#' discrepancy.) The verdict names the flagged points and the sign: a
+#' positive residual means the simulator under-predicts.
 #'
 #' @param fit A `koh_fit`.
 #' @param newdata,obs Observable inputs and measured outputs to examine;
@@ -43,7 +47,7 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
     residual_upper = residual_int[, 2], residual_share = 100 * colMeans(residual) / set$obs,
     row.names = NULL
   )
-  out$flag <- out$delta_lower > 0 | out$delta_upper < 0
+  out$flag <- out$residual_lower > 0 | out$residual_upper < 0
   structure(out, class = c("koh_discrepancy", "data.frame"), level = level,
             verdict = discrepancy_verdict(out, level))
 }
@@ -51,17 +55,17 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
 discrepancy_verdict <- function(d, level) {
   flagged <- d[d$flag, , drop = FALSE]
   if (nrow(flagged) == 0L) {
-    return(sprintf("The simulator is consistent with the data: every %g%% interval of delta contains zero.",
+    return(sprintf("The simulator is consistent with the data: every %g%% interval of y - eta contains zero.",
                    100 * level))
   }
   describe <- function(rows, word) {
     if (nrow(rows) == 0L) return(NULL)
     sprintf("%s at point%s %s (by %s%% of the output on average)", word,
             if (nrow(rows) > 1L) "s" else "", paste(rows$point, collapse = ", "),
-            format(mean(abs(rows$delta_share)), digits = 2))
+            format(mean(abs(rows$residual_share)), digits = 2))
   }
-  parts <- c(describe(flagged[flagged$delta_mean > 0, ], "under-predicts"),
-             describe(flagged[flagged$delta_mean < 0, ], "over-predicts"))
+  parts <- c(describe(flagged[flagged$residual_mean > 0, ], "under-predicts"),
+             describe(flagged[flagged$residual_mean < 0, ], "over-predicts"))
   sprintf("The simulator is wrong at %d of %d points: it %s.", nrow(flagged), nrow(d),
           paste(parts, collapse = "; it "))
 }
@@ -69,17 +73,15 @@ discrepancy_verdict <- function(d, level) {
 #' @export
 print.koh_discrepancy <- function(x, digits = 3, ...) {
   cat(attr(x, "verdict"), "\n\n")
-  out <- as.data.frame(unclass(x))
-  num <- vapply(out, is.double, logical(1))
-  out[num] <- lapply(out[num], signif, digits = digits)
-  print(out, row.names = FALSE)
+  print_rounded(as.data.frame(unclass(x)), digits)
   invisible(x)
 }
 
 #' Plot the posterior discrepancy
 #'
-#' The posterior mean and central interval of the discrepancy `delta` (as a
-#' share of the measured output, percent) at every point, along each
+#' The posterior mean and central interval of what the simulator misses, the
+#' residual `y - eta(x, tf)` (discrepancy plus noise, as a share of the
+#' measured output, percent) at every point, along each
 #' observable input and along the points' order (time, for field data in
 #' time order). Flagged points, whose interval excludes zero, are drawn in
 #' red.
@@ -104,7 +106,7 @@ plot_discrepancy <- function(x) {
     ggplot2::scale_colour_manual(values = c(`FALSE` = "#1b6ca8", `TRUE` = "#c0392b"),
                                  labels = c(`FALSE` = "interval contains 0",
                                             `TRUE` = "interval excludes 0")) +
-    ggplot2::labs(x = NULL, y = "discrepancy delta / y (%)", colour = NULL,
+    ggplot2::labs(x = NULL, y = "simulator residual (y - eta) / y (%)", colour = NULL,
                   caption = sprintf("posterior mean and %g%% interval", 100 * attr(x, "level"))) +
     ggplot2::theme_bw() +
     ggplot2::theme(legend.position = "bottom")
@@ -122,8 +124,8 @@ plot_discrepancy_data <- function(x) {
   along <- c(x_names, "point order")
   rows <- lapply(along, function(a) {
     data.frame(along = a, position = if (a == "point order") x$point else x[[a]],
-               point = x$point, mean = share(x$delta_mean), lower = share(x$delta_lower),
-               upper = share(x$delta_upper), flag = x$flag)
+               point = x$point, mean = share(x$residual_mean), lower = share(x$residual_lower),
+               upper = share(x$residual_upper), flag = x$flag)
   })
   out <- do.call(rbind, rows)
   out$along <- factor(out$along, levels = along)

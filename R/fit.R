@@ -32,6 +32,9 @@
 #'   Both give the same posterior. `"auto"` (the default) uses the grid
 #'   program whenever the data allow it (see `koh_data()$grid`) and
 #'   `predict_at` is not given.
+#' @param covariates Optional data frame, one row per field row, whose
+#'   columns enter the discrepancy as parametric terms (see [extend()], which
+#'   is the usual way to add them).
 #' @param ... Further arguments to [rstan::sampling()], e.g. `init` or
 #'   `refresh`.
 #' @return An object of class `koh_fit`: the `stanfit`, the [koh_data()]
@@ -48,8 +51,14 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       iter = 2000L, warmup = floor(iter / 2), seed = NULL,
                       cores = getOption("mc.cores", 1L),
                       control = list(adapt_delta = 0.9), predict_at = NULL,
-                      structure = c("auto", "grid", "dense"), ...) {
+                      structure = c("auto", "grid", "dense"), covariates = NULL, ...) {
   data <- if (inherits(field, "koh_data")) field else koh_data(field, sim)
+  data <- add_discrepancy_terms(data, covariates)
+  if (!is.null(covariates) && !is.null(predict_at)) {
+    abort_bayesbem(c("{.arg predict_at} cannot be combined with {.arg covariates}.",
+                     i = "Predict after the fit with {.fn predict}, giving the covariates in {.arg newdata}."),
+                   "argument")
+  }
   if (!inherits(priors, "koh_priors")) {
     abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
                      x = "It is {.obj_type_friendly {priors}}."),
@@ -151,8 +160,10 @@ NULL
 #' @exportS3Method posterior::as_draws_array
 as_draws_array.koh_fit <- function(x, ...) {
   d <- x$data
+  h_names <- names(d$covariates)
   arr <- as.array(x$stanfit, pars = c("tf", "beta_eta", "beta_delta", "lambda_eta",
-                                      "lambda_delta", "lambda_e", "lp__"))
+                                      "lambda_delta", "lambda_e",
+                                      if (length(h_names) > 0L) "gamma", "lp__"))
   tf <- grep("^tf\\[", dimnames(arr)[[3]])
   for (k in seq_along(tf)) {
     arr[, , tf[k]] <- arr[, , tf[k]] * (d$scaling$t_max[[k]] - d$scaling$t_min[[k]]) +
@@ -161,7 +172,13 @@ as_draws_array.koh_fit <- function(x, ...) {
   dimnames(arr)[[3]] <- c(d$names$t,
                           sprintf("beta_eta[%s]", c(d$names$x, d$names$t)),
                           sprintf("beta_delta[%s]", d$names$x),
-                          "lambda_eta", "lambda_delta", "lambda_e", "lp__")
+                          "lambda_eta", "lambda_delta", "lambda_e",
+                          sprintf("gamma[%s]", h_names), "lp__")
+  # discrepancy-term coefficients in output units per covariate unit
+  for (k in seq_along(h_names)) {
+    j <- dim(arr)[3] - length(h_names) - 1L + k
+    arr[, , j] <- arr[, , j] * d$scaling$y_scale / d$h_scale[[k]]
+  }
   posterior::as_draws_array(arr)
 }
 
@@ -224,8 +241,8 @@ summarise_fit <- function(fit, ...) {
 #' @export
 print.summary.koh_fit <- function(x, digits = 3, ...) {
   st <- x$settings
-  cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters\n",
-              x$data$n, x$data$m, x$data$p, x$data$q))
+  cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters (%s likelihood)\n",
+              x$data$n, x$data$m, x$data$p, x$data$q, st$structure %||% "dense"))
   cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions\n\n",
               st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent))
   cat("Calibration parameters (physical units):\n")

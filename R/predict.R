@@ -5,7 +5,8 @@
 #'   observation noise when `noise = TRUE`;
 #' * `type = "eta"`: the simulator part `eta(x, tf)` alone (the emulator at
 #'   the calibrated parameters);
-#' * `type = "delta"`: the model discrepancy `delta(x)` alone.
+#' * `type = "delta"`: the model discrepancy `delta(x)` alone (with the
+#'   parametric terms of [extend()], when the fit has any).
 #'
 #' With `method = "conditional"` (the default), each posterior draw of `tf`
 #' and the hyperparameters gives the exact Gaussian conditional of
@@ -24,7 +25,8 @@
 #'
 #' @param object A `koh_fit`.
 #' @param newdata A data frame with the observable inputs (the field inputs'
-#'   column names); defaults to the field inputs. Inputs outside the range
+#'   column names), and the covariates of any discrepancy terms (see
+#'   [extend()]); defaults to the field inputs. Inputs outside the range
 #'   the model was calibrated on get a warning (extrapolation).
 #' @param type One of `"y"`, `"eta"` or `"delta"`.
 #' @param ndraws Number of posterior draws to use (evenly spaced); all by
@@ -76,6 +78,10 @@ predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE) {
   joint <- matrix(joint, nrow = 2 * n_new)
   eta <- t(joint[seq_len(n_new), , drop = FALSE])
   delta <- t(joint[n_new + seq_len(n_new), , drop = FALSE])
+  if (length(data$covariates) > 0L) {
+    gamma <- do.call(rbind, lapply(pars, `[[`, "gamma"))
+    delta <- delta + gamma %*% t(scale_covariates(data, newdata))
+  }
   y <- eta + delta
   if (noise) {
     sd_e <- 1 / sqrt(vapply(pars, `[[`, numeric(1), "lambda_e"))
@@ -104,8 +110,24 @@ sampled_predictions <- function(fit, newdata, type, call = rlang::caller_env()) 
   unscale_y(as.matrix(fit$stanfit, pars = "y_pred"), fit$data$scaling)
 }
 
+# The field rows' observable inputs, and the covariates of any discrepancy terms.
 field_inputs <- function(data) {
-  data$field[data$names$x]
+  x <- data$field[data$names$x]
+  extra <- data$covariates[setdiff(names(data$covariates), names(x))]
+  if (length(extra) > 0L) cbind(x, extra) else x
+}
+
+# The covariates of a fit's discrepancy terms at `newdata`, scaled as in the fit.
+scale_covariates <- function(data, newdata, call = rlang::caller_env()) {
+  needed <- names(data$covariates)
+  missing <- setdiff(needed, names(newdata))
+  if (length(missing) > 0L) {
+    abort_bayesbem(c("{.arg newdata} has no column{?s} {.field {missing}}.",
+                     i = "This fit has discrepancy terms in {.field {needed}}: give their values too."),
+                   "columns", call = call)
+  }
+  check_numeric_complete(newdata, needed, "newdata", call = call)
+  sweep(as.matrix(newdata[needed]), 2, data$h_scale, "/")
 }
 
 # Inputs and measured outputs to compare predictions with: the field data by

@@ -16,6 +16,11 @@
 #'   the emulator's and the discrepancy's correlation parameters.
 #' @param lambda_eta,lambda_delta,lambda_e Shape and rate `c(shape, rate)` of
 #'   the Gamma priors on the emulator, discrepancy and noise precisions.
+#' @param gamma_sd Standard deviation of the normal(0, sd) prior on the
+#'   coefficients of parametric discrepancy terms (see [extend()]), on the
+#'   standardised output scale per unit of the covariate scaled to \[-1, 1\]:
+#'   `1` lets a term move the output by about one standard deviation of the
+#'   simulations.
 #' @param nugget A small jitter that keeps the emulator's covariance
 #'   positive definite when inputs or runs nearly coincide. It is added to
 #'   each factor of the emulator kernel where rows are equal, the x factor
@@ -32,7 +37,7 @@
 #' koh_priors(tf = list(equipment_power_density = prior_normal(21.9, 0.2)))
 koh_priors <- function(tf = list(), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
                        lambda_eta = c(10, 10), lambda_delta = c(10, 0.3),
-                       lambda_e = c(10, 0.03), nugget = 1e-6) {
+                       lambda_e = c(10, 0.03), gamma_sd = 1, nugget = 1e-6) {
   if (!is.list(tf) || (length(tf) > 0L && (is.null(names(tf)) || any(names(tf) == ""))) ||
       !all(vapply(tf, inherits, logical(1), "bayesbem_prior"))) {
     abort_bayesbem(c("{.arg tf} must be a named list of priors.",
@@ -52,7 +57,11 @@ koh_priors <- function(tf = list(), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
   if (!is.numeric(nugget) || length(nugget) != 1L || !is.finite(nugget) || nugget < 0) {
     abort_bayesbem("{.arg nugget} must be one non-negative number.", "prior")
   }
-  structure(c(list(tf = tf), hyper, list(nugget = nugget)), class = "koh_priors")
+  if (!is.numeric(gamma_sd) || length(gamma_sd) != 1L || !is.finite(gamma_sd) || gamma_sd <= 0) {
+    abort_bayesbem("{.arg gamma_sd} must be one positive number.", "prior")
+  }
+  structure(c(list(tf = tf), hyper, list(gamma_sd = gamma_sd, nugget = nugget)),
+            class = "koh_priors")
 }
 
 #' Priors for one calibration parameter
@@ -183,12 +192,16 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
     lambda_eta_shape = priors$lambda_eta[1], lambda_eta_rate = priors$lambda_eta[2],
     lambda_delta_shape = priors$lambda_delta[1], lambda_delta_rate = priors$lambda_delta[2],
     lambda_e_shape = priors$lambda_e[1], lambda_e_rate = priors$lambda_e[2],
-    nugget = priors$nugget
+    nugget = priors$nugget,
+    n_h = ncol(data$h %||% matrix(0, data$n, 0)),
+    h = data$h %||% matrix(0, data$n, 0),
+    gamma_sd = priors$gamma_sd %||% 1
   )
   if (structure == "grid") {
     grid <- data$grid
-    return(c(list(n = data$n, mt = grid$mt, p = data$p, q = q, y = data$y,
-                  eta = matrix(data$eta[grid$index], data$n), xf = data$xf, tc = grid$design),
+    return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = q, y = data$y,
+                  eta = matrix(data$eta[grid$index], grid$n_x), x_grid = grid$x,
+                  tc = grid$design),
              prior_data))
   }
   c(list(n = data$n, m = data$m, p = data$p, q = q,

@@ -29,3 +29,11 @@ cat_lines <- function(..., .envir = parent.frame()) {
   lines <- vapply(c(...), cli::format_inline, character(1), .envir = .envir, USE.NAMES = FALSE)
   cat(lines, sep = "\n")
 }
+
+# Prints a data frame without row names, doubles rounded to `digits`
+# significant digits.
+print_rounded <- function(df, digits) {
+  num <- vapply(df, is.double, logical(1))
+  df[num] <- lapply(df[num], signif, digits = digits)
+  print(df, row.names = FALSE)
+}

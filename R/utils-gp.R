@@ -29,17 +29,21 @@ pair_geometry <- function(a, b) {
 # (scaled) observable inputs `x_new` at tf: pairs "ff" (field rows), "sf"
 # and "ss" (new rows), and, for the dense structure, "fc", "sc", "cc" (x of
 # simulation rows) and "tt" (t of simulation rows); for the grid structure,
-# "tt" over the runs and the output matrix `E` (field input by run).
+# "xx" and "sx" (grid inputs, field inputs first), "tt" over the runs and the
+# output matrix `E` (grid input by run).
 gp_geometry <- function(data, x_new = NULL, structure = "dense") {
   g <- list(structure = structure, n = data$n, m = data$m, p = data$p, y = data$y,
-            ff = pair_geometry(data$xf, data$xf))
+            h = data$h %||% matrix(0, data$n, 0), ff = pair_geometry(data$xf, data$xf))
   if (structure == "grid") {
-    g$tc <- data$grid$design
-    g$E <- matrix(data$eta[data$grid$index], data$n)
+    grid <- data$grid
+    g$tc <- grid$design
+    g$E <- matrix(data$eta[grid$index], grid$n_x)
     g$tt <- pair_geometry(g$tc, g$tc)
+    g$xx <- pair_geometry(grid$x, grid$x)
+    if (!is.null(x_new)) g$sx <- pair_geometry(x_new, grid$x)
   } else {
     g$tc <- data$tc
-    g$z <- c(data$y, data$eta)
+    g$eta <- data$eta
     g$fc <- pair_geometry(data$xf, data$xc)
     g$cc <- pair_geometry(data$xc, data$xc)
     g$tt <- pair_geometry(data$tc, data$tc)
@@ -60,11 +64,12 @@ draw_parameters <- function(fit, ndraws = NULL) {
   beta_eta <- get("beta_eta")
   beta_delta <- get("beta_delta")
   lambda <- cbind(get("lambda_eta"), get("lambda_delta"), get("lambda_e"))
+  gamma <- if (length(fit$data$covariates) > 0L) get("gamma") else matrix(0, nrow(tf), 0)
   idx <- draw_subset(nrow(tf), ndraws)
   lapply(idx, function(i) {
     list(tf = tf[i, ], beta_eta = beta_eta[i, ], beta_delta = beta_delta[i, ],
          lambda_eta = lambda[i, 1], lambda_delta = lambda[i, 2], lambda_e = lambda[i, 3],
-         nugget = fit$priors$nugget)
+         gamma = gamma[i, ], nugget = fit$priors$nugget)
   })
 }
 
@@ -119,8 +124,15 @@ koh_sigma_z <- function(g, par, dg = draw_geometry(g, par)) {
   rbind(cbind(s_ff, s_fc), cbind(t(s_fc), s_cc))
 }
 
+# The field outputs less the draw's parametric discrepancy terms h' gamma,
+# which is what the Gaussian processes model.
+field_y <- function(g, par) {
+  if (ncol(g$h) == 0L) g$y else g$y - drop(g$h %*% par$gamma)
+}
+
 # Joint conditional distribution of (eta(x_new, tf), delta(x_new)) given the
-# data, for one draw: mean and covariance.
+# data, for one draw: mean and covariance; delta is the Gaussian-process
+# part of the discrepancy.
 koh_conditional <- function(g, par) {
   if (g$structure == "grid") koh_conditional_grid(g, par) else koh_conditional_dense(g, par)
 }
@@ -134,7 +146,7 @@ koh_conditional_dense <- function(g, par) {
                cbind(delta_cov(g$sf, par), matrix(0, n_new, g$m)))
   r <- chol(koh_sigma_z(g, par, dg))
   v <- backsolve(r, t(s21), transpose = TRUE)
-  w <- backsolve(r, g$z, transpose = TRUE)
+  w <- backsolve(r, c(field_y(g, par), g$eta), transpose = TRUE)
   list(mean = drop(crossprod(v, w)), cov = new_rows_cov(g, dg, par) - crossprod(v))
 }
 
@@ -145,35 +157,66 @@ new_rows_cov <- function(g, dg, par) {
   rbind(cbind(eta_cov(g$ss, dg, par), zero), cbind(zero, delta_cov(g$ss, par)))
 }
 
-# Grid design, in two steps that never form Sigma_z. Given the runs E, the
-# emulator at rows u, v at tf has mean kx(u, xf) Kx^-1 E w and covariance
-# ((1 + a) kx(u, v) - s kx(u, xf) Kx^-1 kx(xf, v)) / lambda_eta, with
-# w = Kt^-1 k0, s = k0' w and a the nugget; in particular y | E is
-# N(E w, c Kx / lambda_eta + Sigma_delta + I / lambda_e), c = 1 + a - s.
-# The new rows are then conditioned on y. Cost O(mt^3 + n^3) per draw.
+# The field outputs given the simulation runs, for one draw: y - h' gamma
+# given eta is normal with this `mean` and covariance `cov` (emulator,
+# discrepancy and noise). On a grid design, with w = Kt^-1 k0, s = k0' w and
+# a the nugget: mean E w and covariance c Kx / lambda_eta + Sigma_delta +
+# I / lambda_e, c = 1 + a - s (never forming Sigma_z); otherwise from the
+# blocks of Sigma_z. Also returns the pieces the grid conditional reuses.
+field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
+  if (g$structure == "grid") {
+    r_t <- chol(jittered_cor(g$tt, dg$bt, par$nugget))
+    v <- backsolve(r_t, dg$k0, transpose = TRUE)
+    s <- sum(v^2)
+    kx <- jittered_cor(g$xx, dg$bx, par$nugget)
+    f <- seq_len(g$n)
+    cov <- (1 + par$nugget - s) * kx[f, f] / par$lambda_eta + delta_cov(g$ff, par)
+    diag(cov) <- diag(cov) + 1 / par$lambda_e
+    mean_x <- drop(g$E %*% backsolve(r_t, v))
+    return(list(mean = mean_x[f], cov = cov, kx = kx, mean_x = mean_x, s = s))
+  }
+  sigma <- koh_sigma_z(g, par, dg)
+  f <- seq_len(g$n)
+  r_c <- chol(sigma[-f, -f])
+  a <- backsolve(r_c, t(sigma[f, -f, drop = FALSE]), transpose = TRUE)
+  list(mean = drop(crossprod(a, backsolve(r_c, g$eta, transpose = TRUE))),
+       cov = sigma[f, f] - crossprod(a))
+}
+
+# Grid design, in two steps: given the runs E at the grid inputs X, the
+# emulator at rows u, v at tf has mean kx(u, X) Kx^-1 E w and covariance
+# ((1 + a) kx(u, v) - s kx(u, X) Kx^-1 kx(X, v)) / lambda_eta (see
+# field_given_runs()), and covariance c kx(u, xf) / lambda_eta with the field
+# outputs; the new rows are then conditioned on y. Cost O(mt^3 + n_x^3) per
+# draw.
 koh_conditional_grid <- function(g, par) {
   dg <- draw_geometry(g, par)
-  r_t <- chol(jittered_cor(g$tt, dg$bt, par$nugget))
-  v <- backsolve(r_t, dg$k0, transpose = TRUE)
-  s <- sum(v^2)
-  c_t <- 1 + par$nugget - s
-  mu_f <- drop(g$E %*% backsolve(r_t, v))
-  kx <- jittered_cor(g$ff, dg$bx, par$nugget)
-  r_x <- chol(kx)
+  fm <- field_given_runs(g, par, dg)
+  c_t <- 1 + par$nugget - fm$s
+  r_x <- chol(fm$kx)
   kx_sf <- jittered_cor(g$sf, dg$bx, par$nugget)
-  u <- backsolve(r_x, t(kx_sf), transpose = TRUE)
-  mean_eta <- drop(crossprod(u, backsolve(r_x, mu_f, transpose = TRUE)))
+  u <- backsolve(r_x, t(jittered_cor(g$sx, dg$bx, par$nugget)), transpose = TRUE)
+  mean_eta <- drop(crossprod(u, backsolve(r_x, fm$mean_x, transpose = TRUE)))
   prior <- new_rows_cov(g, dg, par)
   eta_rows <- seq_len(nrow(kx_sf))
-  prior[eta_rows, eta_rows] <- prior[eta_rows, eta_rows] - s * crossprod(u) / par$lambda_eta
-  s_y <- c_t * kx / par$lambda_eta + delta_cov(g$ff, par)
-  diag(s_y) <- diag(s_y) + 1 / par$lambda_e
-  r_y <- chol(s_y)
+  prior[eta_rows, eta_rows] <- prior[eta_rows, eta_rows] - fm$s * crossprod(u) / par$lambda_eta
+  r_y <- chol(fm$cov)
   gain <- backsolve(r_y, t(rbind(c_t * kx_sf / par$lambda_eta, delta_cov(g$sf, par))),
                     transpose = TRUE)
-  h <- backsolve(r_y, g$y - mu_f, transpose = TRUE)
+  h <- backsolve(r_y, field_y(g, par) - fm$mean, transpose = TRUE)
   list(mean = c(mean_eta, rep(0, length(eta_rows))) + drop(crossprod(gain, h)),
        cov = prior - crossprod(gain))
+}
+
+# Exact leave-one-out log predictive densities of the field outputs for one
+# draw: log p(y_i | y_-i, eta), from the precision Q of y given the runs:
+# y_i | y_-i ~ N(y_i - (Q r)_i / Q_ii, 1 / Q_ii) with r = y - mean.
+loo_log_density <- function(g, par) {
+  fm <- field_given_runs(g, par)
+  q <- chol2inv(chol(fm$cov))
+  qr <- drop(q %*% (field_y(g, par) - fm$mean))
+  qd <- diag(q)
+  -0.5 * log(2 * pi) + 0.5 * log(qd) - 0.5 * qr^2 / qd
 }
 
 # One draw from N(mean, cov) for a covariance that may be singular to

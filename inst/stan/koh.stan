@@ -24,7 +24,7 @@ data {
 transformed data {
   int n_all = n + n_pred;                // field block: observed rows, then predicted rows
   matrix[n_all, p] xf_all = append_row(xf, x_pred);
-  vector[n_all + m] zero = rep_vector(0, n_all + m);
+  vector[n_pred + m] zero = rep_vector(0, n_pred + m);
   // squared input differences and equal-row indicators, computed once
   matrix[n_all * n_all, p + 1] nd2_ff = neg_sqdist(xf_all, xf_all);
   matrix[n_all * m, p + 1] nd2_fc = neg_sqdist(xf_all, xc);
@@ -49,5 +49,6 @@ model {
                                                  beta_eta, beta_delta, lambda_eta,
                                                  lambda_delta, lambda_e, nugget);
 #include /include/koh_priors.stan
-  target += multi_normal_cholesky_lpdf(z | zero, cholesky_decompose(sigma_z));
+  // the discrepancy terms shift the observed field rows only
+  target += multi_normal_cholesky_lpdf(z | append_row(discrepancy_terms(h, gamma), zero), cholesky_decompose(sigma_z));
 }

@@ -1,5 +1,6 @@
 // Kennedy-O'Hagan calibration on a grid design: every one of the mt runs is
-// made at the n field inputs (x_c = x_f). The log density equals koh.stan's,
+// made at the n field inputs (x_c = x_f) and possibly at further inputs, e.g.
+// of held-out periods (n_x in all). The log density equals koh.stan's,
 // but the emulator covariance is the Kronecker product Kt (x) Kx, so each
 // gradient costs O(mt^3 + n^3) instead of O((n (mt + 1))^3) (issue 7).
 functions {
@@ -7,19 +8,22 @@ functions {
 }
 data {
   int<lower=1> n;                        // field observations (distinct inputs)
+  int<lower=n> n_x;                      // grid inputs: the field inputs first
   int<lower=1> mt;                       // simulation runs
   int<lower=1> p;                        // observable inputs x
   int<lower=1> q;                        // calibration parameters t
   vector[n] y;                           // field output
-  matrix[n, mt] eta;                     // simulator output of run a at field input i
-  matrix[n, p] xf;                       // field inputs, shared by every run
+  matrix[n_x, mt] eta;                   // simulator output of run a at grid input i
+  matrix[n_x, p] x_grid;                 // grid inputs, shared by every run
   matrix[mt, q] tc;                      // simulation design, one row per run
 #include /include/koh_prior_data.stan
 }
 transformed data {
+  matrix[n, p] xf = block(x_grid, 1, 1, n, p);
   matrix[n * n, p + 1] nd2_ff = neg_sqdist(xf, xf);
+  matrix[n_x * n_x, p + 1] nd2_xx = neg_sqdist(x_grid, x_grid);
   matrix[mt * mt, q + 1] nd2_tt = neg_sqdist(tc, tc);
-  matrix[n, n] eq_ff = equal_rows(xf, xf);
+  matrix[n_x, n_x] eq_xx = equal_rows(x_grid, x_grid);
   matrix[mt, mt] eq_tt = equal_rows(tc, tc);
 }
 parameters {
@@ -29,10 +33,10 @@ transformed parameters {
 #include /include/koh_transformed_parameters.stan
 }
 model {
-  matrix[n, n] Kx = jittered_cor(nd2_ff, eq_ff, head(beta_eta, p), nugget);
+  matrix[n_x, n_x] Kx = jittered_cor(nd2_xx, eq_xx, head(beta_eta, p), nugget);
   matrix[mt, mt] Kt = jittered_cor(nd2_tt, eq_tt, tail(beta_eta, q), nugget);
   vector[mt] k0 = tf_cor(tf', tc, tail(beta_eta, q));
   matrix[n, n] sigma_delta = sq_exp_cov(nd2_ff, beta_delta, lambda_delta, n, n);
 #include /include/koh_priors.stan
-  target += koh_grid_lpdf(y | eta, Kx, Kt, k0, sigma_delta, lambda_eta, lambda_e, nugget);
+  target += koh_grid_lpdf(y - discrepancy_terms(h, gamma) | eta, Kx, Kt, k0, sigma_delta, lambda_eta, lambda_e, nugget);
 }

@@ -27,7 +27,9 @@ reference_log_density <- function(sd, pars) {
         (i == j) / pars$lambda_e
     }
   }
-  z <- c(sd$y, sd$eta)
+  # the discrepancy terms h' gamma shift the observed field rows
+  shift <- c(drop(sd$h %*% pars$gamma), rep(0, N - nrow(sd$h)))
+  z <- c(sd$y, sd$eta) - shift
   r <- chol(sigma)
   ll <- -0.5 * N * log(2 * pi) - sum(log(diag(r))) - 0.5 * sum(backsolve(r, z, transpose = TRUE)^2)
   lp_tf <- 0
@@ -42,7 +44,8 @@ reference_log_density <- function(sd, pars) {
     sum(stats::dbeta(pars$rho_delta, sd$rho_delta_a, sd$rho_delta_b, log = TRUE)) +
     stats::dgamma(pars$lambda_eta, sd$lambda_eta_shape, sd$lambda_eta_rate, log = TRUE) +
     stats::dgamma(pars$lambda_delta, sd$lambda_delta_shape, sd$lambda_delta_rate, log = TRUE) +
-    stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE)
+    stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE) +
+    sum(stats::dnorm(pars$gamma, 0, sd$gamma_sd, log = TRUE))
 }
 
 # Emulator covariance of rows u and v = (x, t): the product kernel with the
@@ -62,7 +65,8 @@ random_koh_pars <- function(sd) {
        rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
        lambda_eta = stats::rgamma(1, 10, 10),
        lambda_delta = stats::rgamma(1, 10, 0.3),
-       lambda_e = stats::rgamma(1, 10, 0.03))
+       lambda_e = stats::rgamma(1, 10, 0.03),
+       gamma = as.array(stats::rnorm(sd$n_h)))
 }
 
 # The compiled KOH model ("koh" or "koh_grid") with data `sd`, without
@@ -113,7 +117,7 @@ reference_conditional <- function(sd, pars, x_new) {
   }
   train <- seq_len(n + m)
   new <- n + m + seq_len(2 * k)
-  z <- c(sd$y, sd$eta)
+  z <- c(sd$y - drop(sd$h %*% pars$gamma), sd$eta)
   list(mean = drop(cov[new, train] %*% solve(cov[train, train], z)),
        cov = cov[new, new] - cov[new, train] %*% solve(cov[train, train], cov[train, new]))
 }
@@ -122,5 +126,5 @@ reference_conditional <- function(sd, pars, x_new) {
 as_draw_pars <- function(pars, nugget) {
   list(tf = pars$tf, beta_eta = -4 * log(pars$rho_eta), beta_delta = -4 * log(pars$rho_delta),
        lambda_eta = pars$lambda_eta, lambda_delta = pars$lambda_delta,
-       lambda_e = pars$lambda_e, nugget = nugget)
+       lambda_e = pars$lambda_e, gamma = pars$gamma, nugget = nugget)
 }

@@ -15,6 +15,15 @@ test_that("the shipped design is a grid, in any row order", {
   expect_equal(by_run(shuffled), by_run(d))
 })
 
+test_that("runs at further inputs (held-out periods) still form a grid", {
+  d <- koh_data(seb_field[-c(3, 8), ], seb_sim)
+  expect_equal(c(d$grid$n, d$grid$n_x, d$grid$mt), c(10, 12, 10))
+  # field inputs first, then the further ones
+  expect_equal(d$grid$x[1:10, ], d$xf, ignore_attr = TRUE)
+  expect_equal(d$xc, d$grid$x[d$grid$period, ])
+  expect_equal(bayesbem:::choose_structure(d, "auto"), "grid")
+})
+
 test_that("incomplete grids and repeated field inputs are not grids", {
   expect_null(koh_data(seb_field, seb_sim[-7, ])$grid)
   moved <- seb_sim

@@ -34,20 +34,23 @@ test_that("the Stan log density matches on other sizes, with outputs sampled in 
   }
 })
 
-# A random grid problem: every run at every field input, rows shuffled.
-random_grid_data <- function(n = 7, runs = 5) {
-  x <- matrix(runif(n * 2), n, 2, dimnames = list(NULL, c("a", "b")))
+# A random grid problem: every run at every field input and at `extra`
+# further inputs, rows shuffled.
+random_grid_data <- function(n = 7, runs = 5, extra = 2) {
+  x <- matrix(runif((n + extra) * 2), n + extra, 2, dimnames = list(NULL, c("a", "b")))
   design <- cbind(k1 = runif(runs, 0, 3), k2 = runif(runs, 10, 20), k3 = runif(runs))
   sim <- do.call(rbind, lapply(seq_len(runs), function(r) {
-    data.frame(eta = rnorm(n, 5), x, t(design[r, ]))
+    data.frame(eta = rnorm(n + extra, 5), x, t(design[r, ]))
   }))
-  koh_data(data.frame(y = rnorm(n, 5), x), sim[sample(nrow(sim)), ])
+  koh_data(data.frame(y = rnorm(n, 5), x[seq_len(n), ]), sim[sample(nrow(sim)), ])
 }
 
 test_that("the grid program's log density equals the dense program's", {
   skip_on_cran()
   withr::local_seed(11)
-  random <- random_grid_data()
+  # with two parametric discrepancy terms (extend())
+  random <- bayesbem:::add_discrepancy_terms(random_grid_data(extra = 2),
+                                             data.frame(w1 = rnorm(7), w2 = rep(0:1, c(3, 4))))
   k2_mid <- (random$scaling$t_min[["k2"]] + random$scaling$t_max[["k2"]]) / 2
   problems <- list(
     shipped = list(d = koh_data(seb_field, seb_sim),
@@ -55,6 +58,7 @@ test_that("the grid program's log density equals the dense program's", {
     random = list(d = random, priors = koh_priors(tf = list(k2 = prior_normal(k2_mid, 0.05)),
                                                   nugget = 1e-4))
   )
+  expect_equal(random$grid$n_x, 9)
   for (pr in problems) {
     dense <- bayesbem:::koh_stan_data(pr$d, pr$priors, structure = "dense")
     grid <- bayesbem:::koh_stan_data(pr$d, pr$priors, structure = "grid")

@@ -4,19 +4,22 @@ test_that("conditioning equals a brute-force dense computation on a tiny problem
   x <- matrix(runif(n * 2), n, 2, dimnames = list(NULL, c("a", "b")))
   design <- cbind(k = c(0.2, 1.5, 2.8))
   sim <- do.call(rbind, lapply(1:3, function(r) data.frame(eta = rnorm(n), x, k = design[r])))
-  d <- koh_data(data.frame(y = rnorm(n), x), sim)
-  sd <- bayesbem:::koh_stan_data(d, koh_priors())
-  # new rows off the data and on a field input, where the jitter applies
-  x_new <- rbind(matrix(runif(6), 3, 2), d$xf[2, ])
-  expect_false(is.null(d$grid))
-  for (structure in c("dense", "grid")) {
-    g <- bayesbem:::gp_geometry(d, x_new, structure)
-    for (i in 1:3) {
-      pars <- random_koh_pars(sd)
-      ours <- bayesbem:::koh_conditional(g, as_draw_pars(pars, sd$nugget))
-      brute <- reference_conditional(sd, pars, x_new)
-      expect_equal(ours$mean, brute$mean, tolerance = 1e-8)
-      expect_equal(ours$cov, brute$cov, tolerance = 1e-8)
+  field <- data.frame(y = rnorm(n), x)
+  # a grid over the field inputs, and one with a further input (held out)
+  for (d in list(koh_data(field, sim), koh_data(field[1:3, ], sim))) {
+    expect_false(is.null(d$grid))
+    sd <- bayesbem:::koh_stan_data(d, koh_priors())
+    # new rows off the data and on a field input, where the jitter applies
+    x_new <- rbind(matrix(runif(6), 3, 2), d$xf[2, ], d$xc[4, ])
+    for (structure in c("dense", "grid")) {
+      g <- bayesbem:::gp_geometry(d, x_new, structure)
+      for (i in 1:3) {
+        pars <- random_koh_pars(sd)
+        ours <- bayesbem:::koh_conditional(g, as_draw_pars(pars, sd$nugget))
+        brute <- reference_conditional(sd, pars, x_new)
+        expect_equal(ours$mean, brute$mean, tolerance = 1e-8)
+        expect_equal(ours$cov, brute$cov, tolerance = 1e-8)
+      }
     }
   }
 })

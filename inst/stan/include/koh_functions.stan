@@ -71,29 +71,41 @@
                       append_col(sigma_fc', sigma_cc));
   }
 
-  /* Log density of the KOH model on a grid design (every run made at the n
-   * field inputs), exactly that of koh_cov() without forming it. E holds the
-   * simulator output of run a at period i in E[i, a]; Kx and Kt are the
-   * jittered x and run correlations, k0 = k_t(tf, t_a). Then
+  /* Log density of the KOH model on a grid design (every run made at the
+   * n_x grid inputs, the n field inputs first), exactly that of koh_cov()
+   * without forming it. E holds the simulator output of run a at grid input
+   * i in E[i, a]; Kx and Kt are the jittered input and run correlations,
+   * k0 = k_t(tf, t_a). Then
    *   vec(E) ~ N(0, Kt (x) Kx / lambda_eta)
-   *   y | E ~ N(E Kt^-1 k0, c Kx / lambda_eta + Sigma_delta + I / lambda_e)
+   *   y | E ~ N((E Kt^-1 k0)[1:n], c Kx[1:n, 1:n] / lambda_eta + Sigma_delta + I / lambda_e)
    * with c = 1 + nugget - k0' Kt^-1 k0 (inst/notes/design.md, "Grid designs"). */
   real koh_grid_lpdf(vector y, matrix E, matrix Kx, matrix Kt, vector k0,
                      matrix sigma_delta, real lambda_eta, real lambda_e, real nugget) {
-    int n = rows(E);
+    int n = rows(y);
+    int n_x = rows(E);
     int mt = cols(E);
-    matrix[n, n] Lx = cholesky_decompose(Kx);
+    matrix[n_x, n_x] Lx = cholesky_decompose(Kx);
     matrix[mt, mt] Lt = cholesky_decompose(Kt);
     // Lx^-1 E Lt^-T, whose squared norm is the Kronecker quadratic form
-    matrix[n, mt] white = mdivide_left_tri_low(Lt, mdivide_left_tri_low(Lx, E)')';
+    matrix[n_x, mt] white = mdivide_left_tri_low(Lt, mdivide_left_tri_low(Lx, E)')';
     vector[mt] v = mdivide_left_tri_low(Lt, k0);
     vector[mt] w = mdivide_right_tri_low(v', Lt)';   // Kt^-1 k0
     real c = 1 + nugget - dot_self(v);
-    matrix[n, n] sigma_y = add_diag(c * Kx / lambda_eta + sigma_delta, 1 / lambda_e);
-    real lp_eta = -0.5 * (n * mt * log(2 * pi()) - n * mt * log(lambda_eta)
-                          + 2 * n * sum(log(diagonal(Lt))) + 2 * mt * sum(log(diagonal(Lx)))
+    matrix[n, n] sigma_y = add_diag(c * block(Kx, 1, 1, n, n) / lambda_eta + sigma_delta,
+                                    1 / lambda_e);
+    real lp_eta = -0.5 * (n_x * mt * log(2 * pi()) - n_x * mt * log(lambda_eta)
+                          + 2 * n_x * sum(log(diagonal(Lt))) + 2 * mt * sum(log(diagonal(Lx)))
                           + lambda_eta * sum(columns_dot_self(white)));
-    return lp_eta + multi_normal_cholesky_lpdf(y | E * w, cholesky_decompose(sigma_y));
+    return lp_eta + multi_normal_cholesky_lpdf(y | head(E * w, n), cholesky_decompose(sigma_y));
+  }
+
+  /* The parametric discrepancy terms h * gamma at the field rows (zero when
+   * there are none: rstan 2.21 refuses to multiply zero-size matrices). */
+  vector discrepancy_terms(matrix h, vector gamma) {
+    if (cols(h) == 0) {
+      return rep_vector(0, rows(h));
+    }
+    return h * gamma;
   }
 
   /* Log prior of tf on [0, 1]: U(0, 1) where is_normal[k] is 0, otherwise

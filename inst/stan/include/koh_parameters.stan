@@ -4,3 +4,4 @@
   real<lower=0> lambda_eta;              // precision of the emulator
   real<lower=0> lambda_delta;            // precision of the discrepancy
   real<lower=0> lambda_e;                // precision of the observation error
+  vector[n_h] gamma;                     // coefficients of the discrepancy terms

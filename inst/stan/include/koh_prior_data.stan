@@ -14,3 +14,8 @@
   real<lower=0> lambda_e_shape;
   real<lower=0> lambda_e_rate;
   real<lower=0> nugget;                  // jitter on each emulator kernel factor
+  // parametric discrepancy terms h' gamma (Kennedy & O'Hagan's mean
+  // functions), used by extend(): covariates at the field rows, scaled
+  int<lower=0> n_h;
+  matrix[n, n_h] h;
+  real<lower=0> gamma_sd;                // prior sd of each gamma

@@ -1,0 +1,121 @@
+#' Extend a calibration with the effect the simulator misses
+#'
+#' Refits a `koh_fit` with a named effect added, in one of two ways:
+#' * statistically (`with`): each named covariate enters the discrepancy as
+#'   a parametric term, `delta(x) + sum_k gamma_k w_k` (the mean functions
+#'   `h(x)' gamma` of Kennedy and O'Hagan), with its own coefficient and a
+#'   normal(0, `gamma_sd`) prior (see [koh_priors()]). A covariate can be an
+#'   observable input the simulator treats wrongly or anything the modeller
+#'   knows per field row (occupancy, working days, a step at a meter or
+#'   equipment change date, ...). Covariates are scaled to \[-1, 1\] by
+#'   their largest absolute value, so zero keeps its meaning ("no effect");
+#'   the coefficients are reported in output units per covariate unit as
+#'   `gamma[<name>]` by [posterior::as_draws()];
+#' * physically (`sim`): a new simulation table from a simulator that
+#'   includes the mechanism, typically with a new calibration parameter.
+#'
+#' The other settings (priors, chains, iterations, seed, structure) are
+#' those of `fit` unless given in `...`. The result is a `koh_fit` like any
+#' other: compare it with the original with [compare_fits()].
+#'
+#' @param fit A `koh_fit`.
+#' @param with Names of the covariates to add as discrepancy terms: columns
+#'   of `covariates`, or observable inputs of the fit.
+#' @param covariates A data frame with one row per field row (in the field
+#'   data's order).
+#' @param sim A new simulation table, in the layout of [koh_data()] (by
+#'   position: `eta`, the fit's observable inputs, then the calibration
+#'   parameters).
+#' @param ... Arguments of [calibrate()] that replace the fit's.
+#' @return A `koh_fit`.
+#' @family discrepancy
+#' @export
+#' @examples
+#' \donttest{
+#' working <- data.frame(working_days = c(22, 20, 21, 22, 22, 20, 23, 21, 21, 23, 20, 21))
+#' ext <- extend(seb_fit, with = "working_days", covariates = working, refresh = 0)
+#' posterior::summarise_draws(posterior::subset_draws(posterior::as_draws(ext),
+#'                                                    variable = "gamma"))
+#' }
+extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
+  check_koh_fit(fit)
+  if (is.null(with) == is.null(sim)) {
+    abort_bayesbem(c("Give either {.arg with} (covariate names) or {.arg sim} (a new simulation table).",
+                     i = "{.arg with} adds statistical discrepancy terms; {.arg sim} a simulator with the missing mechanism."),
+                   "argument")
+  }
+  data <- fit$data
+  terms <- data$covariates
+  if (!is.null(sim)) {
+    data <- koh_data(data$field[c(data$names$y, data$names$x)], sim)
+  } else {
+    terms <- extension_covariates(data, with, covariates)
+  }
+  settings <- fit$settings
+  args <- utils::modifyList(
+    list(field = data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
+         warmup = settings$warmup, seed = settings$seed,
+         structure = settings$structure %||% "auto", covariates = terms),
+    list(...)
+  )
+  do.call(calibrate, args)
+}
+
+# The discrepancy terms of an extension: the fit's, plus `with` taken from
+# `covariates` or the observable inputs.
+extension_covariates <- function(data, with, covariates, call = rlang::caller_env()) {
+  if (!is.character(with) || length(with) == 0L) {
+    abort_bayesbem("{.arg with} must name one or more covariates.", "argument", call = call)
+  }
+  pool <- data$field[data$names$x]
+  if (!is.null(covariates)) {
+    covariates <- as_numeric_table(covariates, "covariates", call = call)
+    check_rows_per_field(covariates, data$n, call = call)
+    pool <- cbind(pool, covariates[setdiff(names(covariates), names(pool))])
+  }
+  unknown <- setdiff(with, names(pool))
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("{.arg with} names {.field {unknown}}, neither an observable input nor a column of {.arg covariates}.",
+                     i = "Available: {.field {names(pool)}}."),
+                   "columns", call = call)
+  }
+  old <- data$covariates
+  added <- pool[, setdiff(with, names(old)), drop = FALSE]
+  if (is.null(old)) added else cbind(old, added)
+}
+
+# Checks covariates of the discrepancy terms and adds them to `data`, scaled
+# by their largest absolute value: `h` (n x n_h), `h_scale` and the raw
+# `covariates`.
+add_discrepancy_terms <- function(data, covariates, call = rlang::caller_env()) {
+  if (is.null(covariates) || ncol(covariates) == 0L) {
+    data[c("covariates", "h", "h_scale")] <- list(NULL)
+    return(data)
+  }
+  covariates <- as_numeric_table(covariates, "covariates", call = call)
+  check_rows_per_field(covariates, data$n, call = call)
+  check_numeric_complete(covariates, names(covariates), "covariates", call = call)
+  h_scale <- vapply(covariates, function(v) max(abs(v)), numeric(1))
+  spread <- vapply(covariates, function(v) diff(range(v)), numeric(1))
+  check_varies(spread, names(covariates), "the field rows", call = call)
+  data$covariates <- covariates
+  data$h_scale <- h_scale
+  data$h <- sweep(as.matrix(covariates), 2, h_scale, "/")
+  data
+}
+
+check_rows_per_field <- function(covariates, n, call = rlang::caller_env()) {
+  if (nrow(covariates) != n) {
+    abort_bayesbem(c("{.arg covariates} must have one row per field row ({n}).",
+                     x = "It has {nrow(covariates)}."),
+                   "covariates", call = call)
+  }
+}
+
+check_koh_fit <- function(fit, arg = rlang::caller_arg(fit), call = rlang::caller_env()) {
+  if (!inherits(fit, "koh_fit")) {
+    abort_bayesbem(c("{.arg {arg}} must be a {.cls koh_fit} from {.fn calibrate}.",
+                     x = "It is {.obj_type_friendly {fit}}."),
+                   "argument", call = call)
+  }
+}

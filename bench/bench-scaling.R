@@ -1,0 +1,80 @@
+# Benchmark (issue 7): how the grid and dense likelihoods scale with the
+# number of field periods n and of simulation runs mt. Synthetic data from
+# the embedded model driven by daily weather (n days of 2013, evenly
+# spaced), three calibration parameters, a Latin-hypercube design of mt runs
+# at every field period. For each size: time per gradient of both programs
+# (rstan::grad_log_prob, median of repeats), and the wall time, max R-hat
+# and min bulk ESS of a 4-chain, 1000-iteration grid fit on 2 cores. Dense
+# fits are run only where the per-gradient time makes them finish within
+# 30 minutes; elsewhere the table gives the estimated time (gradients used
+# by the grid fit x dense time per gradient) and says "skipped".
+# Usage, from the package root, with bayesbem installed:
+#   Rscript bench/bench-scaling.R [n values, comma-separated] [mt values]
+suppressPackageStartupMessages(library(bayesbem))
+args <- commandArgs(trailingOnly = TRUE)
+ns <- if (length(args) > 0) as.integer(strsplit(args[1], ",")[[1]]) else c(12, 48, 120, 365)
+mts <- if (length(args) > 1) as.integer(strsplit(args[2], ",")[[1]]) else c(10, 30)
+
+daily_weather <- function(epw, n) {
+  h <- bayesbem:::read_epw_hourly(epw)
+  day <- (seq_len(nrow(h)) - 1L) %/% 24L + 1L
+  means <- lapply(c("temp", "rh", "dni", "dhi", "ghi"), function(v) tapply(h[[v]], day, mean))
+  w <- data.frame(month = tapply(h$month, day, `[`, 1), days = 1, hours = 24,
+                  stats::setNames(means, c("temp", "rh", "dni", "dhi", "ghi")))
+  w[unique(round(seq(1, nrow(w), length.out = n))), ]
+}
+
+grad_time <- function(model, data, reps) {
+  utils::capture.output(fit0 <- rstan::sampling(model, data = data, chains = 0))
+  upars <- rep(0.1, rstan::get_num_upars(fit0))
+  t <- vapply(seq_len(reps), function(i) {
+    system.time(rstan::grad_log_prob(fit0, upars))[["elapsed"]]
+  }, numeric(1))
+  stats::median(t)
+}
+
+epw <- system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")
+truth <- list(equipment_power_density = 15, lighting_power_density = 10,
+              infiltration_per_exterior_area = 0.0008)
+rows <- list()
+for (n in ns) {
+  sim <- bem_simulator(daily_weather(epw, n))
+  field <- simulate_field(sim, truth, noise_sd = 0.5, seed = 1)
+  params <- sim$parameters[sim$parameters$parameter %in% names(truth), ]
+  for (mt in mts) {
+    runs <- simulate_design(sim, design_lhs(params, n = mt, seed = 2))
+    d <- koh_data(field, runs)
+    stopifnot(!is.null(d$grid))
+    sd_grid <- bayesbem:::koh_stan_data(d, koh_priors(), structure = "grid")
+    sd_dense <- bayesbem:::koh_stan_data(d, koh_priors(), structure = "dense")
+    g_grid <- grad_time(bayesbem:::stanmodels$koh_grid, sd_grid, 20)
+    g_dense <- grad_time(bayesbem:::stanmodels$koh, sd_dense, if (n * (mt + 1) > 1500) 1 else 5)
+    wall <- system.time(fit <- suppressWarnings(
+      calibrate(d, chains = 4, iter = 1000, seed = 3, cores = 2, refresh = 0)
+    ))[["elapsed"]]
+    s <- summary(fit)
+    all_s <- rbind(s$parameters, s$hyperparameters)
+    n_grad <- sum(rstan::get_num_leapfrog_per_iteration(fit$stanfit)) /
+      (1 - fit$settings$warmup / fit$settings$iter)
+    dense_estimate <- n_grad * g_dense / 2
+    dense_wall <- if (dense_estimate < 1800) {
+      system.time(suppressWarnings(
+        calibrate(d, chains = 4, iter = 1000, seed = 3, cores = 2, refresh = 0,
+                  structure = "dense")
+      ))[["elapsed"]]
+    } else {
+      NA_real_
+    }
+    rows[[length(rows) + 1]] <- data.frame(
+      n = n, mt = mt, N = n * (mt + 1), grad_grid_ms = 1000 * g_grid,
+      grad_dense_ms = 1000 * g_dense, fit_grid_s = wall, max_rhat = max(all_s$rhat),
+      min_ess_bulk = min(all_s$ess_bulk), fit_dense_s = dense_wall,
+      dense_note = if (is.na(dense_wall)) sprintf("skipped (est. %.0f min)", dense_estimate / 60) else ""
+    )
+    print(rows[[length(rows)]], digits = 3, row.names = FALSE)
+  }
+}
+cat("\nAll sizes (4 chains x 1000 iterations, 2 cores):\n")
+print(do.call(rbind, rows), digits = 3, row.names = FALSE)
+cat(sprintf("machine: %s, %d cores; R %s; rstan %s; %s\n", Sys.info()[["nodename"]],
+            parallel::detectCores(), getRversion(), packageVersion("rstan"), Sys.Date()))

@@ -1,0 +1,75 @@
+# Synthetic calibration problems with a known truth and a hidden effect, for
+# the discrepancy tests: the embedded model on the 2012 and 2013 weather (24
+# months), two calibration parameters, a 10-run Latin hypercube over all
+# months, six months' measurements held out (one per calendar month, each with its twin of the other year in
+# the training set). Each case is fitted once per test run.
+synthetic_truth <- list(equipment_power_density = 15, infiltration_per_exterior_area = 0.0008)
+
+synthetic_held_out <- c(2, 7, 11, 16, 21, 24)
+
+synthetic_simulator <- function() {
+  weather <- rbind(epw_monthly(shipped_epw(2012)), epw_monthly(shipped_epw(2013)))
+  bem_simulator(weather)
+}
+
+# Candidates the simulator does not use: the external covariate and the
+# step of the hidden effects, and decoys correlated with the inputs.
+synthetic_covariates <- function(sim) {
+  withr::with_seed(99, data.frame(
+    occupancy = round(stats::runif(24), 2),
+    after_change = rep(0:1, c(14, 10)),
+    decoy_temp = sim$x$temp + stats::rnorm(24, sd = 3),
+    decoy_rh = sim$x$rh + stats::rnorm(24, sd = 5)
+  ))
+}
+
+synthetic_effects <- list(
+  none = NULL,
+  input = function(d) 4 * d$rh,                 # latent load the simulator ignores
+  covariate = function(d) 250 * d$occupancy,    # events the simulator does not know
+  step = function(d) 200 * d$after_change       # equipment added in month 15
+)
+
+synthetic_case <- local({
+  cache <- list()
+  function(kind) {
+    if (is.null(cache[[kind]])) cache[[kind]] <<- make_synthetic_case(kind)
+    cache[[kind]]
+  }
+})
+
+make_synthetic_case <- function(kind) {
+  sim <- synthetic_simulator()
+  covariates <- synthetic_covariates(sim)
+  field <- simulate_field(sim, synthetic_truth, covariates = covariates,
+                          effect = synthetic_effects[[kind]], noise_sd = 15, seed = 5)
+  params <- sim$parameters[sim$parameters$parameter %in% names(synthetic_truth), ]
+  design <- design_lhs(params, n = 10, seed = 1)
+  runs <- simulate_design(sim, design)
+  held_out <- synthetic_held_out
+  # the runs cover the held-out months too (the simulator can be run
+  # anywhere; only measurements are held out), so the design is a grid
+  base <- suppressWarnings(
+    calibrate(field[-held_out, c("y", "temp", "rh", "solar")], runs, chains = 2, iter = 600,
+              seed = 11, cores = 2, refresh = 0),
+    classes = "bayesbem_warning_convergence"
+  )
+  list(field = field, train_covariates = covariates[-held_out, ],
+       holdout = field[held_out, ], base = base)
+}
+
+# The case's base fit extended with `with`, once per test run.
+synthetic_extension <- local({
+  cache <- list()
+  function(kind, with) {
+    key <- paste(kind, with)
+    if (is.null(cache[[key]])) {
+      case <- synthetic_case(kind)
+      cache[[key]] <<- suppressWarnings(
+        extend(case$base, with = with, covariates = case$train_covariates, refresh = 0),
+        classes = "bayesbem_warning_convergence"
+      )
+    }
+    cache[[key]]
+  }
+})
