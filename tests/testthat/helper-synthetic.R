@@ -1,31 +1,37 @@
 # Synthetic calibration problems with a known truth and a hidden effect, for
-# the discrepancy tests: the embedded model on the 2012 and 2013 weather (24
-# months), two calibration parameters, a 10-run Latin hypercube over all
-# months, six months' measurements held out (one per calendar month, each with its twin of the other year in
-# the training set). Each case is fitted once per test run.
+# the discrepancy tests: the embedded model on 48 months of weather (2012,
+# 2013, and the same two years perturbed), two calibration parameters, a
+# 10-run Latin hypercube over all months, twelve months' measurements held
+# out (one per calendar month in each two-year block). Each case is fitted
+# once per test run.
 synthetic_truth <- list(equipment_power_density = 15, infiltration_per_exterior_area = 0.0008)
 
-synthetic_held_out <- c(2, 7, 11, 16, 21, 24)
+synthetic_held_out <- c(2, 7, 11, 16, 21, 24, 26, 31, 35, 40, 45, 48)
 
 synthetic_simulator <- function() {
-  weather <- rbind(epw_monthly(shipped_epw(2012)), epw_monthly(shipped_epw(2013)))
-  bem_simulator(weather)
+  years <- rbind(epw_monthly(shipped_epw(2012)), epw_monthly(shipped_epw(2013)))
+  perturbed <- withr::with_seed(7, within(years, {
+    temp <- temp + stats::rnorm(24, sd = 1.5)
+    rh <- rh + stats::rnorm(24, sd = 4)
+    dni <- dni * stats::runif(24, 0.9, 1.1)
+  }))
+  bem_simulator(rbind(years, perturbed))
 }
 
 # Candidates the simulator does not use: the external covariate and the
 # step of the hidden effects, and decoys correlated with the inputs.
 synthetic_covariates <- function(sim) {
   withr::with_seed(99, data.frame(
-    occupancy = round(stats::runif(24), 2),
-    after_change = rep(0:1, c(14, 10)),
-    decoy_temp = sim$x$temp + stats::rnorm(24, sd = 3),
-    decoy_rh = sim$x$rh + stats::rnorm(24, sd = 5)
+    occupancy = round(stats::runif(48), 2),
+    after_change = rep(0:1, c(14, 34)),
+    decoy_temp = sim$x$temp + stats::rnorm(48, sd = 3),
+    decoy_rh = sim$x$rh + stats::rnorm(48, sd = 5)
   ))
 }
 
 synthetic_effects <- list(
   none = NULL,
-  input = function(d) 4 * d$rh,                 # latent load the simulator ignores
+  input = function(d) 250 * (d$rh > 47),       # dehumidification the simulator lacks
   covariate = function(d) 250 * d$occupancy,    # events the simulator does not know
   step = function(d) 200 * d$after_change       # equipment added in month 15
 )
@@ -54,8 +60,11 @@ make_synthetic_case <- function(kind) {
               seed = 11, cores = 2, refresh = 0),
     classes = "bayesbem_warning_convergence"
   )
+  # the modeller's physical reading of a humidity cause: humid months
+  humid <- data.frame(humid = as.numeric(field$rh > 47))
   list(field = field, train_covariates = covariates[-held_out, ],
-       holdout = field[held_out, ], base = base)
+       extension_covariates = cbind(covariates, humid)[-held_out, ],
+       holdout = cbind(field, humid)[held_out, ], base = base)
 }
 
 # The case's base fit extended with `with`, once per test run.
@@ -66,7 +75,7 @@ synthetic_extension <- local({
     if (is.null(cache[[key]])) {
       case <- synthetic_case(kind)
       cache[[key]] <<- suppressWarnings(
-        extend(case$base, with = with, covariates = case$train_covariates, refresh = 0),
+        extend(case$base, with = with, covariates = case$extension_covariates, refresh = 0),
         classes = "bayesbem_warning_convergence"
       )
     }
