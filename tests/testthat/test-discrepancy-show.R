@@ -7,7 +7,7 @@ test_that("discrepancy() gives delta and the simulator residual at every field p
   expect_equal(nrow(d), 12)
   expect_equal(d$obs, seb_field$y)
   expect_true(all(d$delta_lower <= d$delta_mean & d$delta_mean <= d$delta_upper))
-  expect_equal(d$flag, d$delta_lower > 0 | d$delta_upper < 0)
+  expect_equal(d$flag, d$residual_lower > 0 | d$residual_upper < 0)
   expect_equal(d$delta_share, 100 * d$delta_mean / d$obs)
   # the residual is y - eta for the same posterior draws of eta
   draws <- withr::with_seed(11, bayesbem:::predict_draws(fit, seb_field[2:4], ndraws = 300))
@@ -18,8 +18,8 @@ test_that("discrepancy() gives delta and the simulator residual at every field p
 })
 
 test_that("the verdict says consistent, or names the points and the sign", {
-  base <- data.frame(point = 1:4, obs = 100, delta_mean = c(1, -1, 20, -15),
-                     delta_share = c(1, -1, 20, -15), flag = FALSE)
+  base <- data.frame(point = 1:4, obs = 100, residual_mean = c(1, -1, 20, -15),
+                     residual_share = c(1, -1, 20, -15), flag = FALSE)
   expect_match(bayesbem:::discrepancy_verdict(base, 0.9), "consistent with the data")
   flagged <- base
   flagged$flag <- c(FALSE, FALSE, TRUE, TRUE)
