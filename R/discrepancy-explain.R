@@ -39,12 +39,8 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
                                 n_perm = 1000, ndraws = NULL, seed = NULL) {
   check_koh_fit(fit)
   check_count(n_perm)
-  for (arg in c("level", "alpha")) {
-    v <- get(arg)
-    if (!is.numeric(v) || length(v) != 1L || !(v > 0 && v < 1)) {
-      abort_bayesbem("{.arg {arg}} must be one number between 0 and 1.", "argument")
-    }
-  }
+  check_probability(level)
+  check_probability(alpha)
   candidates <- explanation_candidates(fit$data, covariates)
   with_seed(seed, {
     eta <- predict_draws(fit, field_inputs(fit$data), ndraws = ndraws)$eta
@@ -66,8 +62,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
 explanation_candidates <- function(data, covariates, call = rlang::caller_env()) {
   candidates <- data$field[data$names$x]
   if (!is.null(covariates)) {
-    covariates <- as_numeric_table(covariates, "covariates", call = call)
-    check_rows_per_field(covariates, data$n, call = call)
+    covariates <- covariate_table(covariates, data$n, call = call)
     check_numeric_complete(covariates, names(covariates), "covariates", call = call)
     clash <- intersect(names(covariates), names(candidates))
     if (length(clash) > 0L) {
@@ -76,8 +71,7 @@ explanation_candidates <- function(data, covariates, call = rlang::caller_env())
     }
     candidates <- cbind(candidates, covariates)
   }
-  spread <- vapply(candidates, function(v) diff(range(v)), numeric(1))
-  check_varies(spread, names(candidates), "the field rows", call = call)
+  check_columns_vary(candidates, call = call)
   candidates
 }
 
@@ -89,10 +83,10 @@ explained_share <- function(v, residual, level, n_perm) {
     if (length(unique(u)) > 2L) cbind(1, u, u^2) else cbind(1, u)
   }
   r_squared <- function(u, r) {
-    fitted <- qr.fitted(qr(basis(u)), r)
     r <- as.matrix(r)
-    centred <- sweep(r, 2, colMeans(r))
-    colSums(sweep(as.matrix(fitted), 2, colMeans(r))^2) / colSums(centred^2)
+    centre <- colMeans(r)
+    fitted <- qr.fitted(qr(basis(u)), r)
+    colSums(sweep(fitted, 2, centre)^2) / colSums(sweep(r, 2, centre)^2)
   }
   shares <- r_squared(v, t(residual))
   mean_residual <- colMeans(residual)

@@ -69,8 +69,7 @@ extension_covariates <- function(data, with, covariates, call = rlang::caller_en
   }
   pool <- data$field[data$names$x]
   if (!is.null(covariates)) {
-    covariates <- as_numeric_table(covariates, "covariates", call = call)
-    check_rows_per_field(covariates, data$n, call = call)
+    covariates <- covariate_table(covariates, data$n, call = call)
     pool <- cbind(pool, covariates[setdiff(names(covariates), names(pool))])
   }
   unknown <- setdiff(with, names(pool))
@@ -92,24 +91,37 @@ add_discrepancy_terms <- function(data, covariates, call = rlang::caller_env()) 
     data[c("covariates", "h", "h_scale")] <- list(NULL)
     return(data)
   }
-  covariates <- as_numeric_table(covariates, "covariates", call = call)
-  check_rows_per_field(covariates, data$n, call = call)
+  covariates <- covariate_table(covariates, data$n, call = call)
   check_numeric_complete(covariates, names(covariates), "covariates", call = call)
+  check_columns_vary(covariates, call = call)
   h_scale <- vapply(covariates, function(v) max(abs(v)), numeric(1))
-  spread <- vapply(covariates, function(v) diff(range(v)), numeric(1))
-  check_varies(spread, names(covariates), "the field rows", call = call)
   data$covariates <- covariates
   data$h_scale <- h_scale
   data$h <- sweep(as.matrix(covariates), 2, h_scale, "/")
   data
 }
 
-check_rows_per_field <- function(covariates, n, call = rlang::caller_env()) {
+# The matrix of discrepancy terms at the field rows (no columns when the fit
+# has none).
+discrepancy_design <- function(data) {
+  data$h %||% matrix(0, data$n, 0)
+}
+
+# `covariates` as a numeric table with one row per field row.
+covariate_table <- function(covariates, n, call = rlang::caller_env()) {
+  covariates <- as_numeric_table(covariates, "covariates", call = call)
   if (nrow(covariates) != n) {
     abort_bayesbem(c("{.arg covariates} must have one row per field row ({n}).",
                      x = "It has {nrow(covariates)}."),
                    "covariates", call = call)
   }
+  covariates
+}
+
+# Every column of `d` must take more than one value over the field rows.
+check_columns_vary <- function(d, call = rlang::caller_env()) {
+  spread <- vapply(d, function(v) diff(range(v)), numeric(1))
+  check_varies(spread, names(d), "the field rows", call = call)
 }
 
 check_koh_fit <- function(fit, arg = rlang::caller_arg(fit), call = rlang::caller_env()) {

@@ -27,9 +27,7 @@
 #' d
 #' plot_discrepancy(d)
 discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = NULL) {
-  if (!is.numeric(level) || length(level) != 1L || !(level > 0 && level < 1)) {
-    abort_bayesbem("{.arg level} must be one number between 0 and 1.", "argument")
-  }
+  check_probability(level)
   if (!is.null(newdata) && is.null(obs)) {
     abort_bayesbem("Give {.arg obs}, the measured outputs at {.arg newdata}.", "argument")
   }

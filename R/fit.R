@@ -176,7 +176,7 @@ as_draws_array.koh_fit <- function(x, ...) {
                           sprintf("gamma[%s]", h_names), "lp__")
   # discrepancy-term coefficients in output units per covariate unit
   for (k in seq_along(h_names)) {
-    j <- dim(arr)[3] - length(h_names) - 1L + k
+    j <- sprintf("gamma[%s]", h_names[k])
     arr[, , j] <- arr[, , j] * d$scaling$y_scale / d$h_scale[[k]]
   }
   posterior::as_draws_array(arr)

@@ -54,12 +54,8 @@ koh_priors <- function(tf = list(), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
                      "prior")
     }
   }
-  if (!is.numeric(nugget) || length(nugget) != 1L || !is.finite(nugget) || nugget < 0) {
-    abort_bayesbem("{.arg nugget} must be one non-negative number.", "prior")
-  }
-  if (!is.numeric(gamma_sd) || length(gamma_sd) != 1L || !is.finite(gamma_sd) || gamma_sd <= 0) {
-    abort_bayesbem("{.arg gamma_sd} must be one positive number.", "prior")
-  }
+  check_number(nugget, "prior")
+  check_number(gamma_sd, "prior", positive = TRUE)
   structure(c(list(tf = tf), hyper, list(gamma_sd = gamma_sd, nugget = nugget)),
             class = "koh_priors")
 }
@@ -193,8 +189,8 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
     lambda_delta_shape = priors$lambda_delta[1], lambda_delta_rate = priors$lambda_delta[2],
     lambda_e_shape = priors$lambda_e[1], lambda_e_rate = priors$lambda_e[2],
     nugget = priors$nugget,
-    n_h = ncol(data$h %||% matrix(0, data$n, 0)),
-    h = data$h %||% matrix(0, data$n, 0),
+    n_h = ncol(discrepancy_design(data)),
+    h = discrepancy_design(data),
     gamma_sd = priors$gamma_sd %||% 1
   )
   if (structure == "grid") {

@@ -171,7 +171,7 @@ run_eplus <- function(model, weather, dir, meter, n_periods, call = rlang::calle
   on.exit(unlink(run_dir, recursive = TRUE), add = TRUE)
   idf_path <- file.path(run_dir, "in.idf")
   write_idf(model, idf_path)
-  epw_path <- plain_copy(weather, file.path(run_dir, "in.epw"))
+  epw_path <- plain_epw(weather, run_dir)
   log <- suppressWarnings(system2(eplus_exe(dir), c("-w", shQuote(epw_path), "-d", shQuote(run_dir),
                                                      "-r", shQuote(idf_path)),
                                   stdout = TRUE, stderr = TRUE))
@@ -180,20 +180,25 @@ run_eplus <- function(model, weather, dir, meter, n_periods, call = rlang::calle
     err <- file.path(run_dir, "eplusout.err")
     severe <- if (file.exists(err)) grep("\\*\\* +(Severe|Fatal) +\\*\\*", readLines(err, warn = FALSE),
                                          value = TRUE)
+    # the error file's severe lines, or else the end of EnergyPlus's output
+    lines <- utils::head(trimws(if (length(severe) > 0L) severe else utils::tail(log, 3)), 5)
     abort_bayesbem(c("EnergyPlus ended with an error.",
-                     stats::setNames(utils::head(trimws(c(severe, if (length(severe) == 0L) utils::tail(log, 3))), 5),
-                                     rep("x", min(5, max(1, length(severe))))),
+                     stats::setNames(lines, rep("x", length(lines))),
                      i = "Check the model and the parameter values of this run."),
                    "eplus_run", call = call)
   }
   read_monthly_meter(file.path(run_dir, "eplusmtr.csv"), meter, n_periods, call = call)
 }
 
-# EnergyPlus reads plain files only: decompresses `.gz` copies.
-plain_copy <- function(path, to) {
-  con <- if (grepl("\\.gz$", path)) gzfile(path) else file(path)
-  writeLines(readLines(con, warn = FALSE), to)
-  close(con)
+# EnergyPlus reads plain files only: a `.gz` weather file is decompressed
+# into the run directory (readLines() reads gzip itself); others are used
+# where they are.
+plain_epw <- function(path, run_dir) {
+  if (!grepl("\\.gz$", path)) {
+    return(path)
+  }
+  to <- file.path(run_dir, "in.epw")
+  writeLines(readLines(path, warn = FALSE), to)
   to
 }
 

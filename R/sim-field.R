@@ -36,9 +36,7 @@ simulate_field <- function(simulator, truth, covariates = NULL, effect = NULL, n
                      i = "Make one with {.fn simulator} or {.fn bem_simulator}."),
                    "argument")
   }
-  if (!is.numeric(noise_sd) || length(noise_sd) != 1L || !is.finite(noise_sd) || noise_sd < 0) {
-    abort_bayesbem("{.arg noise_sd} must be one non-negative number.", "argument")
-  }
+  check_number(noise_sd, "argument")
   params <- design_settings(simulator, as.data.frame(as.list(truth)))[[1]]
   x <- simulator$x
   inputs <- x

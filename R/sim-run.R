@@ -42,7 +42,7 @@ simulate_design <- function(simulator, design, cache_dir = NULL) {
   progress <- progressr::progressor(along = settings)
   # future.seed = TRUE leaves the session on L'Ecuyer-CMRG: keep the caller's
   # generator as it was
-  old_seed <- if (exists(".Random.seed", envir = globalenv())) get(".Random.seed", envir = globalenv())
+  old_seed <- saved_seed()
   on.exit(restore_seed(old_seed), add = TRUE)
   runs <- future.apply::future_lapply(settings, function(params) {
     result <- run_cached(simulator, params, cache_dir)

@@ -23,6 +23,26 @@ check_count <- function(x, arg = rlang::caller_arg(x), call = rlang::caller_env(
   invisible(x)
 }
 
+# Checks that `x` is one finite number, non-negative or, with
+# `positive = TRUE`, positive; `type` is the error subclass.
+check_number <- function(x, type, positive = FALSE, arg = rlang::caller_arg(x),
+                         call = rlang::caller_env()) {
+  if (!is.numeric(x) || length(x) != 1L || !is.finite(x) || x < 0 || (positive && x == 0)) {
+    sign <- if (positive) "positive" else "non-negative"
+    abort_bayesbem("{.arg {arg}} must be one {sign} number.", type, call = call)
+  }
+  invisible(x)
+}
+
+# Checks that `x` is one number strictly between 0 and 1 (a probability
+# level).
+check_probability <- function(x, arg = rlang::caller_arg(x), call = rlang::caller_env()) {
+  if (!is.numeric(x) || length(x) != 1L || !isTRUE(x > 0 && x < 1)) {
+    abort_bayesbem("{.arg {arg}} must be one number between 0 and 1.", "argument", call = call)
+  }
+  invisible(x)
+}
+
 # Prints cli-formatted lines to standard output (print methods must write
 # there, not to the message stream, so that capture.output() sees them).
 cat_lines <- function(..., .envir = parent.frame()) {

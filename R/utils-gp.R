@@ -33,7 +33,7 @@ pair_geometry <- function(a, b) {
 # output matrix `E` (grid input by run).
 gp_geometry <- function(data, x_new = NULL, structure = "dense") {
   g <- list(structure = structure, n = data$n, m = data$m, p = data$p, y = data$y,
-            h = data$h %||% matrix(0, data$n, 0), ff = pair_geometry(data$xf, data$xf))
+            h = discrepancy_design(data), ff = pair_geometry(data$xf, data$xf))
   if (structure == "grid") {
     grid <- data$grid
     g$tc <- grid$design
@@ -169,11 +169,12 @@ field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
     v <- backsolve(r_t, dg$k0, transpose = TRUE)
     s <- sum(v^2)
     kx <- jittered_cor(g$xx, dg$bx, par$nugget)
+    c_t <- 1 + par$nugget - s
     f <- seq_len(g$n)
-    cov <- (1 + par$nugget - s) * kx[f, f] / par$lambda_eta + delta_cov(g$ff, par)
+    cov <- c_t * kx[f, f] / par$lambda_eta + delta_cov(g$ff, par)
     diag(cov) <- diag(cov) + 1 / par$lambda_e
     mean_x <- drop(g$E %*% backsolve(r_t, v))
-    return(list(mean = mean_x[f], cov = cov, kx = kx, mean_x = mean_x, s = s))
+    return(list(mean = mean_x[f], cov = cov, kx = kx, mean_x = mean_x, s = s, c = c_t))
   }
   sigma <- koh_sigma_z(g, par, dg)
   f <- seq_len(g$n)
@@ -192,7 +193,6 @@ field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
 koh_conditional_grid <- function(g, par) {
   dg <- draw_geometry(g, par)
   fm <- field_given_runs(g, par, dg)
-  c_t <- 1 + par$nugget - fm$s
   r_x <- chol(fm$kx)
   kx_sf <- jittered_cor(g$sf, dg$bx, par$nugget)
   u <- backsolve(r_x, t(jittered_cor(g$sx, dg$bx, par$nugget)), transpose = TRUE)
@@ -201,7 +201,7 @@ koh_conditional_grid <- function(g, par) {
   eta_rows <- seq_len(nrow(kx_sf))
   prior[eta_rows, eta_rows] <- prior[eta_rows, eta_rows] - fm$s * crossprod(u) / par$lambda_eta
   r_y <- chol(fm$cov)
-  gain <- backsolve(r_y, t(rbind(c_t * kx_sf / par$lambda_eta, delta_cov(g$sf, par))),
+  gain <- backsolve(r_y, t(rbind(fm$c * kx_sf / par$lambda_eta, delta_cov(g$sf, par))),
                     transpose = TRUE)
   h <- backsolve(r_y, field_y(g, par) - fm$mean, transpose = TRUE)
   list(mean = c(mean_eta, rep(0, length(eta_rows))) + drop(crossprod(gain, h)),

@@ -2,10 +2,9 @@
 # that says which IDF fields a calibration parameter sets. An IDF is a list
 # of objects, each a character vector: the class, then the fields.
 
+# readLines() decompresses gzipped files itself, so `path` may be `.idf.gz`.
 read_idf <- function(path) {
-  con <- if (grepl("\\.gz$", path)) gzfile(path) else file(path)
-  on.exit(close(con))
-  text <- paste(sub("!.*$", "", readLines(con, warn = FALSE)), collapse = "\n")
+  text <- paste(sub("!.*$", "", readLines(path, warn = FALSE)), collapse = "\n")
   objects <- strsplit(text, ";", fixed = TRUE)[[1]]
   objects <- lapply(strsplit(objects, ",", fixed = TRUE), trimws)
   Filter(function(o) length(o) > 0L && nzchar(o[1]), objects)

@@ -7,10 +7,15 @@ with_seed <- function(seed, expr) {
     return(expr)
   }
   check_count(seed)
-  old <- if (exists(".Random.seed", envir = globalenv())) get(".Random.seed", envir = globalenv())
+  old <- saved_seed()
   on.exit(restore_seed(old))
   set.seed(seed, kind = "Mersenne-Twister", normal.kind = "Inversion", sample.kind = "Rejection")
   expr
+}
+
+# The session's .Random.seed, or NULL when there is none yet.
+saved_seed <- function() {
+  if (exists(".Random.seed", envir = globalenv())) get(".Random.seed", envir = globalenv())
 }
 
 # Puts back a saved .Random.seed (NULL: there was none).
