@@ -116,14 +116,9 @@ compare_fits <- function(a, b, holdout = NULL, truth = NULL, ndraws = NULL) {
 comparison_metrics <- function(a, b, holdout, ndraws, call = rlang::caller_env()) {
   newdata <- obs <- NULL
   if (!is.null(holdout)) {
-    y_name <- a$data$names$y
-    if (!is.data.frame(holdout) || !y_name %in% names(holdout)) {
-      abort_bayesbem(c("{.arg holdout} must be a data frame with the output column {.field {y_name}}.",
-                       i = "Give the held-out outputs with their observable inputs (and covariates)."),
-                     "columns", call = call)
-    }
+    check_holdout(holdout, a$data, call = call)
     newdata <- holdout
-    obs <- holdout[[y_name]]
+    obs <- holdout[[a$data$names$y]]
   }
   rows <- lapply(list(a = a, b = b), function(fit) {
     calibration_metrics(fit, newdata = newdata, obs = obs, ndraws = ndraws)

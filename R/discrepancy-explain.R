@@ -7,17 +7,29 @@
 #'
 #' For every posterior draw, the simulator residual `y - eta(x, tf)` at the
 #' field rows is regressed on each candidate (linear and quadratic terms; a
-#' linear term for two-valued candidates such as a step at a date); the
-#' candidate's `share` is the fraction of the residual's variance it
-#' explains (R^2), summarised over draws by its mean and a central interval.
-#' Chance is accounted for by permutation: the R^2 of the posterior mean
-#' residual is compared with its distribution when the candidate's values are
-#' shuffled over the field rows, which gives a p-value per candidate; the
-#' p-values are adjusted for the number of candidates by Holm's method. A
-#' candidate `explains` the discrepancy when its adjusted p-value is below
-#' `alpha`. The verdict names the best-ranked candidate that explains it, or
-#' says that none does: for a correct simulator, that happens in about
-#' `1 - alpha` of data sets.
+#' linear term for two-valued candidates such as a step at a date).
+#'
+#' Part of any residual is not the simulator's fault: calibration parameters
+#' that are off move the output along the simulator's own sensitivities
+#' (e.g. a wrong infiltration rate leaves a residual that follows outdoor
+#' temperature), and no hidden mechanism is needed to explain that. So both
+#' the residual and the candidate are first made orthogonal to what
+#' recalibration can do: a constant and, per calibration parameter, the
+#' direction in which `eta` at the field rows moves with it (the covariance
+#' of the `eta` draws with the `tf` draws). The candidate's `share` is the
+#' fraction of the remaining residual variance it explains (a partial R^2),
+#' summarised over draws by its mean and a central interval. A candidate
+#' that only mimics a parameter's effect gets a share near zero: the data
+#' cannot tell it from parameter error.
+#'
+#' Chance is accounted for by permutation: the partial R^2 of the posterior
+#' mean residual is compared with its distribution when the candidate's
+#' values are shuffled over the field rows, which gives a p-value per
+#' candidate; the p-values are adjusted for the number of candidates by
+#' Holm's method. A candidate `explains` the discrepancy when its adjusted
+#' p-value is below `alpha`. The verdict names the best-ranked candidate that
+#' explains it, or says that none does: for a correct simulator, that
+#' happens in about `1 - alpha` of data sets.
 #'
 #' @param fit A `koh_fit`.
 #' @param covariates Optional data frame with one row per field row (in the
@@ -42,11 +54,14 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   check_probability(level)
   check_probability(alpha)
   candidates <- explanation_candidates(fit$data, covariates)
+  tf <- as.matrix(fit$stanfit, pars = "tf")
+  tf <- tf[draw_subset(nrow(tf), ndraws), , drop = FALSE]
   with_seed(seed, {
     eta <- predict_draws(fit, field_inputs(fit$data), ndraws = ndraws)$eta
     residual <- t(fit$data$field[[fit$data$names$y]] - t(eta))
+    nuisance <- qr(recalibration_basis(eta, tf))
     rows <- lapply(names(candidates), function(name) {
-      explained_share(candidates[[name]], residual, level, n_perm)
+      explained_share(candidates[[name]], residual, nuisance, level, n_perm)
     })
   })
   out <- data.frame(candidate = names(candidates), do.call(rbind, rows))
@@ -75,23 +90,39 @@ explanation_candidates <- function(data, covariates, call = rlang::caller_env())
   candidates
 }
 
-# Share of the residual variance a candidate explains: per draw (columns of
+# What recalibration can do to the output at the field rows (n x (1 + q)):
+# a constant, and the covariance of the eta draws (S x n) with each column
+# of the tf draws (S x q). Its column span is that of the regression slopes
+# of eta on tf, without inverting the (often near-singular) tf covariance.
+recalibration_basis <- function(eta, tf) {
+  centre <- function(m) sweep(m, 2, colMeans(m))
+  cbind(1, crossprod(centre(eta), centre(tf)))
+}
+
+# Share of the residual variance a candidate explains beyond recalibration
+# (partial R^2 given the QR-decomposed `nuisance` basis): per draw (rows of
 # `residual`), and a permutation p-value for the posterior mean residual.
-explained_share <- function(v, residual, level, n_perm) {
+explained_share <- function(v, residual, nuisance, level, n_perm) {
   basis <- function(u) {
     u <- (u - mean(u)) / stats::sd(u)
-    if (length(unique(u)) > 2L) cbind(1, u, u^2) else cbind(1, u)
+    b <- if (length(unique(u)) > 2L) cbind(u, u^2) else cbind(u)
+    free <- qr.resid(nuisance, b)
+    # a column inside the recalibration span is all rounding error: drop it
+    free[, sqrt(colSums(free^2)) > 1e-8 * sqrt(colSums(b^2)), drop = FALSE]
   }
   r_squared <- function(u, r) {
-    r <- as.matrix(r)
-    centre <- colMeans(r)
-    fitted <- qr.fitted(qr(basis(u)), r)
-    colSums(sweep(fitted, 2, centre)^2) / colSums(sweep(r, 2, centre)^2)
+    b <- basis(u)
+    if (ncol(b) == 0L) {
+      return(rep(0, NCOL(r)))
+    }
+    fitted <- qr.fitted(qr(b), r)
+    colSums(as.matrix(fitted)^2) / colSums(as.matrix(r)^2)
   }
-  shares <- r_squared(v, t(residual))
-  mean_residual <- colMeans(residual)
-  observed <- r_squared(v, mean_residual)
-  null <- vapply(seq_len(n_perm), function(i) r_squared(sample(v), mean_residual), numeric(1))
+  free <- qr.resid(nuisance, t(residual))
+  shares <- r_squared(v, free)
+  mean_free <- rowMeans(free)
+  observed <- r_squared(v, mean_free)
+  null <- vapply(seq_len(n_perm), function(i) r_squared(sample(v), mean_free), numeric(1))
   interval <- stats::quantile(shares, c((1 - level) / 2, (1 + level) / 2), names = FALSE)
   data.frame(share = mean(shares), lower = interval[1], upper = interval[2],
              p_value = (1 + sum(null >= observed)) / (n_perm + 1))

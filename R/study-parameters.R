@@ -1,0 +1,169 @@
+#' Study the number of calibration parameters
+#'
+#' The parameter study of Chong and Menberg (2018): calibrate with the `k`
+#' highest-ranked parameters, for each `k`, and compare each parameter's
+#' posterior across `k`. The paper's Fig 4 shows what it finds: every added
+#' parameter costs the others posterior precision, because the same data
+#' must now inform more unknowns.
+#'
+#' With a simulator, each `k` gets its own Latin-hypercube design of
+#' `n_runs` runs over the top `k` parameters, the others held at their
+#' initial values ([design_lhs()], [simulate_design()]), and the field data's
+#' observable inputs must be the simulator's. With a simulation table (what
+#' the paper's public data are), the `k`-parameter calibration uses the
+#' table's first `k` ranked parameter columns and ignores the others, whose
+#' variation then acts as emulator noise.
+#'
+#' Fits run through [future.apply::future_lapply()]: sequentially by
+#' default, in parallel with a [future::plan()] (give each fit `cores = 1`
+#' then). Simulation runs go through [simulate_design()], which uses the same
+#' plan. Progress is reported through progressr: wrap the call in
+#' [progressr::with_progress()].
+#'
+#' @param field A [koh_data()] object (with a simulation table), or the
+#'   field data frame: the output, then the observable inputs.
+#' @param sim A `bayesbem_simulator` ([bem_simulator()],
+#'   [eplus_simulator()]), or a simulation table `[eta, x, t]`.
+#' @param ranking Parameter names from most to least influential, or a
+#'   Morris screening from [screen_morris()]. Defaults to the simulation
+#'   table's parameter columns in order.
+#' @param k Numbers of parameters to calibrate.
+#' @param n_runs Runs per design (with a simulator).
+#' @param holdout Optional held-out data: a data frame with the output
+#'   column and the observable inputs.
+#' @param priors A [koh_priors()] object; calibration-parameter priors it
+#'   gives for parameters outside a fit's top `k` are dropped for that fit.
+#' @param seed Random seed of the designs and of every fit.
+#' @param ndraws Number of posterior draws used for the metrics.
+#' @param ... Further arguments to [calibrate()], e.g. `chains`, `iter`,
+#'   `cores`.
+#' @return An object of class `koh_parameter_study`: a list with `fits` (a
+#'   `koh_fit` per `k`, named `"k = 2"`, ...; printing and plotting do not
+#'   need them, set to `NULL` to store a small study), `k`, `ranking`,
+#'   `posteriors` (one row per `k`
+#'   and parameter: `mean`, `sd`, quantiles `q5` to `q95` in physical
+#'   units, `scaled` median on \[0, 1\]) and `metrics` (CVRMSE and NMBE per
+#'   `k` and data set). Plot it with [plot_parameter_study()].
+#' @family studies
+#' @export
+#' @examples
+#' \donttest{
+#' study <- study_parameters(seb_field, seb_sim, k = 1:3, chains = 1, iter = 300,
+#'                           refresh = 0)
+#' study
+#' plot(study)
+#' }
+study_parameters <- function(field, sim = NULL, ranking = NULL, k = 2:6, n_runs = 30L,
+                             holdout = NULL, priors = koh_priors(), seed = 2018L,
+                             ndraws = NULL, ...) {
+  check_count(n_runs)
+  if (inherits(sim, "bayesbem_simulator")) {
+    ranking <- study_ranking(ranking, sim$parameters$parameter, k)
+    tables <- lapply(k, function(kk) {
+      params <- sim$parameters[match(ranking[seq_len(kk)], sim$parameters$parameter), ]
+      simulate_design(sim, design_lhs(params, n = n_runs, seed = seed))
+    })
+    if (inherits(field, "koh_data")) field <- field$field[c(field$names$y, field$names$x)]
+    datasets <- lapply(tables, function(runs) koh_data(field, runs))
+  } else {
+    data <- study_data(field, sim)
+    ranking <- study_ranking(ranking, data$names$t, k)
+    cols <- data$names
+    datasets <- lapply(k, function(kk) {
+      koh_data(data$field[c(cols$y, cols$x)],
+               data$sim[c(cols$eta, cols$x_sim, ranking[seq_len(kk)])])
+    })
+  }
+  if (!is.null(holdout)) check_holdout(holdout, datasets[[1]])
+  jobs <- lapply(datasets, function(d) {
+    kept <- priors
+    kept$tf <- priors$tf[intersect(names(priors$tf), d$names$t)]
+    list(field = d, priors = kept, seed = seed, ...)
+  })
+  names(jobs) <- paste("k =", k)
+  fits <- run_fits(jobs)
+  structure(list(fits = fits, k = k, ranking = ranking,
+                 posteriors = study_posteriors(fits, "k"),
+                 metrics = study_metrics(fits, "k", holdout, ndraws)),
+            class = "koh_parameter_study")
+}
+
+# The ranked parameter names, checked against those available and `k`.
+study_ranking <- function(ranking, available, k, call = rlang::caller_env()) {
+  if (inherits(ranking, "bayesbem_morris")) {
+    ranking <- unique(ranking$parameter[order(ranking$rank)])
+  }
+  ranking <- ranking %||% available
+  if (!is.character(ranking) || anyDuplicated(ranking)) {
+    abort_bayesbem(c("{.arg ranking} must be distinct parameter names, or a Morris screening.",
+                     i = "E.g. {.code screen_morris(sim)}, or {.code c(\"equipment_power_density\", ...)}."),
+                   "argument", call = call)
+  }
+  unknown <- setdiff(ranking, available)
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("{.arg ranking} names unknown parameter{?s} {.field {unknown}}.",
+                     i = "Available: {.field {available}}."),
+                   "argument", call = call)
+  }
+  if (!is.numeric(k) || length(k) == 0L || any(k != round(k)) || any(k < 1) ||
+      any(k > length(ranking)) || anyDuplicated(k)) {
+    abort_bayesbem(c("{.arg k} must be distinct whole numbers from 1 to {length(ranking)}, the number of ranked parameters.",
+                     x = "It is {.val {k}}."),
+                   "argument", call = call)
+  }
+  ranking
+}
+
+#' @export
+print.koh_parameter_study <- function(x, digits = 3, ...) {
+  cat_lines("{.cls koh_parameter_study}: top k = {x$k} of {.field {x$ranking}}",
+            "",
+            "Posteriors of the calibration parameters (physical units):")
+  print_rounded(x$posteriors[c("k", "parameter", "mean", "sd", "q5", "q50", "q95")], digits)
+  cat_lines("", "CVRMSE and NMBE of the calibrated predictions (percent):")
+  print_rounded(x$metrics, digits)
+  invisible(x)
+}
+
+#' Plot a parameter study
+#'
+#' The paper's Fig 4: for each calibration parameter, box plots of its
+#' posterior (whiskers 5-95 %, box 25-75 %, line at the median) for each
+#' number of calibrated parameters `k`, in physical units.
+#'
+#' @param x A `koh_parameter_study` from [study_parameters()].
+#' @param ... Unused.
+#' @return `plot_parameter_study()`: a ggplot. `plot_parameter_study_data()`:
+#'   the data frame it draws, `x$posteriors` with `k` as a factor and
+#'   parameters in ranking order.
+#' @family studies
+#' @family plots
+#' @export
+#' @examples
+#' \donttest{
+#' study <- study_parameters(seb_field, seb_sim, k = 1:3, chains = 1, iter = 300,
+#'                           refresh = 0)
+#' plot_parameter_study(study)
+#' }
+plot_parameter_study <- function(x) {
+  d <- plot_parameter_study_data(x)
+  ggplot2::ggplot(d, ggplot2::aes(x = .data$k, group = .data$k)) +
+    geom_quantile_box(width = 0.6, fill = "#9ecae1", colour = "#1b6ca8") +
+    ggplot2::facet_wrap(ggplot2::vars(.data$parameter), scales = "free_y") +
+    ggplot2::labs(x = "number of calibrated parameters k", y = "posterior (physical units)") +
+    ggplot2::theme_bw()
+}
+
+#' @rdname plot_parameter_study
+#' @export
+plot_parameter_study_data <- function(x) {
+  check_study(x, "koh_parameter_study")
+  d <- x$posteriors
+  d$k <- factor(d$k, levels = paste("k =", x$k), labels = x$k)
+  d$parameter <- factor(d$parameter, levels = x$ranking[x$ranking %in% d$parameter])
+  d
+}
+
+#' @rdname plot_parameter_study
+#' @export
+plot.koh_parameter_study <- function(x, ...) plot_parameter_study(x)

@@ -1,0 +1,154 @@
+#' Study the effect of the calibration parameters' priors
+#'
+#' The prior study of Chong and Menberg (2018): the same calibration with
+#' the paper's three prior levels on the calibration parameters, `"flat"`
+#' (`U(0, 1)`), `"weak"` (`N(mu, 0.2)`) and `"specific"` (`N(mu, 0.05)`), on
+#' the parameters' design ranges mapped to \[0, 1\] (see [prior_level()]).
+#' It reports how the posteriors move and narrow (the paper's Fig 5) and the
+#' calibrated predictions' CVRMSE and NMBE on the training data and, when
+#' given, held-out data (the paper's Table 3).
+#'
+#' Fits run through [future.apply::future_lapply()]: sequentially by
+#' default, in parallel with e.g. `future::plan(future::multisession,
+#' workers = 3)` (then give each fit `cores = 1`). Progress is reported
+#' through progressr: wrap the call in [progressr::with_progress()].
+#'
+#' @param field A [koh_data()] object, or the field data frame (then `sim`
+#'   is required).
+#' @param sim The simulation data frame when `field` is a data frame.
+#' @param levels Prior levels to compare: any of `"flat"`, `"weak"` and
+#'   `"specific"`.
+#' @param mu A named numeric vector of prior means in physical units, one
+#'   per calibration parameter (the modeller's best guess, e.g. the
+#'   simulator's initial values); needed for the `"weak"` and `"specific"`
+#'   levels.
+#' @param holdout Optional held-out data: a data frame with the output
+#'   column and the observable inputs.
+#' @param priors A [koh_priors()] object giving the GP hyperpriors; its
+#'   calibration-parameter priors are replaced by each level's.
+#' @param seed Random seed of every fit (the same for all levels).
+#' @param ndraws Number of posterior draws used for the metrics (all by
+#'   default).
+#' @param ... Further arguments to [calibrate()], e.g. `chains`, `iter`,
+#'   `cores`.
+#' @return An object of class `koh_prior_study`: a list with `fits` (the
+#'   `koh_fit` of each level), `levels`, `posteriors` (one row per level
+#'   and parameter: `mean`, `sd`, quantiles `q5` to `q95` in physical units
+#'   and `scaled`, the median on \[0, 1\]), `metrics` (one row per level
+#'   and data set: `n`, `cvrmse`, `nmbe`, `calibrated`) and `densities` (the
+#'   posterior densities that [plot_prior_study()] draws). Printing and
+#'   plotting do not need `fits`: set it to `NULL` to store a small study.
+#' @family studies
+#' @export
+#' @examples
+#' \donttest{
+#' mu <- c(fan_total_efficiency = 0.6, equipment_power_density = 21.9,
+#'         infiltration_per_exterior_area = 0.0011)
+#' study <- study_priors(seb_field, seb_sim, levels = c("flat", "specific"), mu = mu,
+#'                       chains = 1, iter = 300, seed = 1, refresh = 0)
+#' study
+#' plot(study)
+#' }
+study_priors <- function(field, sim = NULL, levels = c("flat", "weak", "specific"), mu = NULL,
+                         holdout = NULL, priors = koh_priors(), seed = 2018L, ndraws = NULL, ...) {
+  data <- study_data(field, sim)
+  known <- c("flat", "weak", "specific")
+  if (!is.character(levels) || length(levels) == 0L || !all(levels %in% known) ||
+      anyDuplicated(levels)) {
+    abort_bayesbem(c("{.arg levels} must be distinct prior levels among {.val {known}}.",
+                     x = "It is {.val {format(levels)}}."),
+                   "argument")
+  }
+  if (!inherits(priors, "koh_priors")) {
+    abort_bayesbem("{.arg priors} must be made by {.fn koh_priors}.", "prior")
+  }
+  if (!is.null(holdout)) check_holdout(holdout, data)
+  call <- rlang::current_env()
+  jobs <- lapply(stats::setNames(nm = levels), function(level) {
+    level_priors <- priors
+    level_priors$tf <- prior_level(level, mu)
+    # checks the means against the design ranges before any fit starts
+    koh_stan_data(data, level_priors, call = call)
+    list(field = data, priors = level_priors, seed = seed, ...)
+  })
+  fits <- run_fits(jobs)
+  structure(list(fits = fits, levels = levels, posteriors = study_posteriors(fits, "level"),
+                 metrics = study_metrics(fits, "level", holdout, ndraws),
+                 densities = prior_study_densities(fits)),
+            class = "koh_prior_study")
+}
+
+# Each level's posterior densities (see plot_posteriors_data()).
+prior_study_densities <- function(fits) {
+  rows <- lapply(names(fits), function(level) {
+    d <- plot_posteriors_data(fits[[level]])
+    d <- d[d$curve == "posterior", c("parameter", "value", "density")]
+    data.frame(level = level, d, row.names = NULL)
+  })
+  out <- do.call(rbind, rows)
+  out$level <- factor(out$level, levels = names(fits))
+  out
+}
+
+#' @export
+print.koh_prior_study <- function(x, digits = 3, ...) {
+  cat_lines("{.cls koh_prior_study}: {length(x$levels)} prior level{?s} ({.val {x$levels}})",
+            "",
+            "Posteriors of the calibration parameters (physical units):")
+  print_rounded(x$posteriors[c("level", "parameter", "mean", "sd", "q5", "q50", "q95")], digits)
+  cat_lines("", "CVRMSE and NMBE of the calibrated predictions (percent):")
+  print_rounded(x$metrics, digits)
+  invisible(x)
+}
+
+#' Plot a prior study
+#'
+#' The paper's Fig 5: for each calibration parameter, its posterior density
+#' under each prior level, in physical units over the design range.
+#'
+#' @param x A `koh_prior_study` from [study_priors()].
+#' @param ... Unused.
+#' @return `plot_prior_study()`: a ggplot. `plot_prior_study_data()`: a data
+#'   frame with columns `level`, `parameter`, `value` and `density` (the
+#'   posteriors; see [plot_posteriors_data()]).
+#' @family studies
+#' @family plots
+#' @export
+#' @examples
+#' \donttest{
+#' mu <- c(fan_total_efficiency = 0.6, equipment_power_density = 21.9,
+#'         infiltration_per_exterior_area = 0.0011)
+#' study <- study_priors(seb_field, seb_sim, levels = c("flat", "specific"), mu = mu,
+#'                       chains = 1, iter = 300, seed = 1, refresh = 0)
+#' plot_prior_study(study)
+#' }
+plot_prior_study <- function(x) {
+  d <- plot_prior_study_data(x)
+  ggplot2::ggplot(d, ggplot2::aes(.data$value, .data$density, colour = .data$level)) +
+    ggplot2::geom_line() +
+    ggplot2::facet_wrap(ggplot2::vars(.data$parameter), scales = "free") +
+    ggplot2::scale_colour_manual(values = c(flat = "grey40", weak = "#1b6ca8",
+                                            specific = "#c0392b")) +
+    ggplot2::labs(x = "value (physical units)", y = "posterior density", colour = "prior") +
+    ggplot2::theme_bw() +
+    ggplot2::theme(legend.position = "bottom")
+}
+
+#' @rdname plot_prior_study
+#' @export
+plot_prior_study_data <- function(x) {
+  check_study(x, "koh_prior_study")
+  x$densities
+}
+
+#' @rdname plot_prior_study
+#' @export
+plot.koh_prior_study <- function(x, ...) plot_prior_study(x)
+
+check_study <- function(x, class, arg = rlang::caller_arg(x), call = rlang::caller_env()) {
+  if (!inherits(x, class)) {
+    abort_bayesbem(c("{.arg {arg}} must be a {.cls {class}}.",
+                     x = "It is {.obj_type_friendly {x}}."),
+                   "argument", call = call)
+  }
+}

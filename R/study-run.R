@@ -1,0 +1,71 @@
+# Machinery shared by the studies (study_priors(), study_parameters()): fits
+# run through future with progress, and the tables every study reports.
+
+# Runs calibrate() once per element of `jobs` (argument lists), through
+# future.apply so that the plan decides where fits run; named like `jobs`.
+run_fits <- function(jobs) {
+  progress <- progressr::progressor(along = jobs)
+  # the jobs carry their seeds; keep the caller's generator as it was
+  old_seed <- saved_seed()
+  on.exit(restore_seed(old_seed), add = TRUE)
+  fits <- future.apply::future_lapply(jobs, function(job) {
+    fit <- do.call(calibrate, job)
+    progress()
+    fit
+  }, future.seed = TRUE, future.packages = "bayesbem")
+  stats::setNames(fits, names(jobs))
+}
+
+# Posterior summary of each fit's calibration parameters in physical units,
+# one row per (study setting, parameter); `scaled` is the median on the
+# parameter's design range mapped to [0, 1].
+study_posteriors <- function(fits, key) {
+  rows <- lapply(names(fits), function(label) {
+    fit <- fits[[label]]
+    draws <- posterior::as_draws_matrix(as_draws_array.koh_fit(fit))[, fit$data$names$t,
+                                                                    drop = FALSE]
+    q <- column_quantiles(draws, c(0.05, 0.25, 0.5, 0.75, 0.95))
+    s <- fit$data$scaling
+    data.frame(setting = label, parameter = colnames(draws), mean = colMeans(draws),
+               sd = apply(draws, 2, stats::sd), q,
+               scaled = (q[, "q50"] - s$t_min) / (s$t_max - s$t_min), row.names = NULL)
+  })
+  out <- do.call(rbind, rows)
+  names(out)[1] <- key
+  out
+}
+
+# CVRMSE/NMBE of each fit on its training data and on `holdout` (a data
+# frame with the output and the observable inputs), one row per (setting, set).
+study_metrics <- function(fits, key, holdout, ndraws) {
+  rows <- lapply(names(fits), function(label) {
+    fit <- fits[[label]]
+    newdata <- obs <- NULL
+    if (!is.null(holdout)) {
+      newdata <- holdout
+      obs <- holdout[[fit$data$names$y]]
+    }
+    data.frame(setting = label, calibration_metrics(fit, newdata, obs, ndraws = ndraws))
+  })
+  out <- do.call(rbind, rows)
+  names(out)[1] <- key
+  out
+}
+
+# Held-out data need the output column and the observable inputs (checked
+# before any fit starts; values are checked where they are scaled).
+check_holdout <- function(holdout, data, call = rlang::caller_env()) {
+  needed <- c(data$names$y, data$names$x)
+  if (!is.data.frame(holdout) || !all(needed %in% names(holdout))) {
+    abort_bayesbem(c("{.arg holdout} must be a data frame with the output and the observable inputs, {.field {needed}}.",
+                     i = "Give the held-out outputs with their observable inputs (and covariates)."),
+                   "columns", call = call)
+  }
+  invisible(holdout)
+}
+
+# A study's data: a koh_data object, or made from the field and simulation
+# tables.
+study_data <- function(field, sim) {
+  if (inherits(field, "koh_data")) field else koh_data(field, sim)
+}

@@ -1,0 +1,34 @@
+# Benchmark (issue 6): how often explain_discrepancy() names a cause when
+# nothing is hidden, and how often it finds a hidden cause. The synthetic
+# problem of the test suite (tests/testthat/helper-synthetic.R: 48 months,
+# two parameters, 30 runs, 36 months fitted), one fit per noise draw; the
+# candidates are the three inputs, an occupancy covariate, a step at month
+# 15 and two decoys. Prints, per kind of data, the share of draws in which
+# some candidate was named, and in which the true cause ranked first and
+# was named.
+# Usage, from the package root with bayesbem installed:
+#   Rscript bench/bench-false-alarms.R [noise draws per kind, default 10] [kinds, comma-separated]
+suppressPackageStartupMessages(library(bayesbem))
+args <- commandArgs(trailingOnly = TRUE)
+draws <- if (length(args) > 0) as.integer(args[1]) else 10L
+for (f in c("helper-weather.R", "helper-synthetic.R")) {
+  sys.source(file.path("tests", "testthat", f), envir = globalenv())
+}
+causes <- c(none = NA, input = "rh", covariate = "occupancy", step = "after_change")
+if (length(args) > 1) causes <- causes[strsplit(args[2], ",")[[1]]]
+rows <- list()
+for (kind in names(causes)) {
+  outcome <- vapply(seq_len(draws), function(i) {
+    case <- make_synthetic_case(kind, noise_seed = 100 + i)
+    ex <- explain_discrepancy(case$base, case$train_covariates, n_perm = 500, seed = i)
+    c(named = any(ex$explains),
+      found = !is.na(causes[[kind]]) && ex$candidate[1] == causes[[kind]] && ex$explains[1])
+  }, logical(2))
+  rows[[kind]] <- data.frame(data = kind, draws = draws, cause_named = mean(outcome["named", ]),
+                             true_cause_found = if (is.na(causes[[kind]])) NA else mean(outcome["found", ]))
+  print(rows[[kind]], row.names = FALSE)
+}
+cat("\nShare of noise draws (alpha = 0.05, Holm over 7 candidates, 500 permutations):\n")
+print(do.call(rbind, rows), row.names = FALSE)
+cat(sprintf("machine: %s, %d cores; R %s; rstan %s; %s\n", Sys.info()[["nodename"]],
+            parallel::detectCores(), getRversion(), packageVersion("rstan"), Sys.Date()))
