@@ -116,13 +116,7 @@ study_ranking <- function(ranking, available, k, call = rlang::caller_env()) {
 
 #' @export
 print.koh_parameter_study <- function(x, digits = 3, ...) {
-  cat_lines("{.cls koh_parameter_study}: top k = {x$k} of {.field {x$ranking}}",
-            "",
-            "Posteriors of the calibration parameters (physical units):")
-  print_rounded(x$posteriors[c("k", "parameter", "mean", "sd", "q5", "q50", "q95")], digits)
-  cat_lines("", "CVRMSE and NMBE of the calibrated predictions (percent):")
-  print_rounded(x$metrics, digits)
-  invisible(x)
+  print_study(x, "k", "{.cls koh_parameter_study}: top k = {x$k} of {.field {x$ranking}}", digits)
 }
 
 #' Plot a parameter study

@@ -92,13 +92,8 @@ prior_study_densities <- function(fits) {
 
 #' @export
 print.koh_prior_study <- function(x, digits = 3, ...) {
-  cat_lines("{.cls koh_prior_study}: {length(x$levels)} prior level{?s} ({.val {x$levels}})",
-            "",
-            "Posteriors of the calibration parameters (physical units):")
-  print_rounded(x$posteriors[c("level", "parameter", "mean", "sd", "q5", "q50", "q95")], digits)
-  cat_lines("", "CVRMSE and NMBE of the calibrated predictions (percent):")
-  print_rounded(x$metrics, digits)
-  invisible(x)
+  print_study(x, "level",
+              "{.cls koh_prior_study}: {length(x$levels)} prior level{?s} ({.val {x$levels}})", digits)
 }
 
 #' Plot a prior study

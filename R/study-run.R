@@ -69,3 +69,14 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 study_data <- function(field, sim) {
   if (inherits(field, "koh_data")) field else koh_data(field, sim)
 }
+
+# What both studies print: a header (a cli template evaluated in the
+# caller), the posterior table keyed by `key`, and the metrics table.
+print_study <- function(x, key, header, digits, .envir = parent.frame()) {
+  cat_lines(header, "", "Posteriors of the calibration parameters (physical units):",
+            .envir = .envir)
+  print_rounded(x$posteriors[c(key, "parameter", "mean", "sd", "q5", "q50", "q95")], digits)
+  cat_lines("", "CVRMSE and NMBE of the calibrated predictions (percent):")
+  print_rounded(x$metrics, digits)
+  invisible(x)
+}

@@ -14,22 +14,22 @@ render_vignette <- function(name) {
   paste(readLines(html, warn = FALSE), collapse = "\n")
 }
 
-count <- function(pattern, text) lengths(regmatches(text, gregexpr(pattern, text)))
+# Renders a vignette and checks it has its figures, the given passages and
+# no error output.
+expect_rendered <- function(name, figures, passages) {
+  html <- render_vignette(name)
+  images <- lengths(regmatches(html, gregexpr("<img src=\"data:image/png", html)))
+  expect_gte(images, figures)
+  for (passage in passages) expect_match(html, passage, fixed = TRUE)
+  expect_false(grepl("## Error", html, fixed = TRUE))
+}
 
 test_that("the calibration vignette renders with its figures and comparison table", {
   skip_on_cran()
-  html <- render_vignette("calibration")
-  expect_gte(count("<img src=\"data:image/png", html), 5)
-  expect_match(html, "This package and the paper")
-  expect_match(html, "grid likelihood")
-  expect_false(grepl("## Error", html, fixed = TRUE))
+  expect_rendered("calibration", 5, c("This package and the paper", "grid likelihood"))
 })
 
 test_that("the discrepancy vignette renders and finds the hidden step", {
   skip_on_cran()
-  html <- render_vignette("discrepancy")
-  expect_gte(count("<img src=\"data:image/png", html), 1)
-  expect_match(html, "best explained by after_change")
-  expect_match(html, "b predicts better")
-  expect_false(grepl("## Error", html, fixed = TRUE))
+  expect_rendered("discrepancy", 1, c("best explained by after_change", "b predicts better"))
 })
