@@ -9,7 +9,7 @@
 # 30 minutes; elsewhere the table gives the estimated time (gradients used
 # by the grid fit x dense time per gradient) and says "skipped".
 # Usage, from the package root, with bayesbem installed:
-#   Rscript bench/bench-scaling.R [n values, comma-separated] [mt values]
+#   [BENCH_FIT_MAX_N=120] Rscript bench/bench-scaling.R [n values, comma-separated] [mt values]
 suppressPackageStartupMessages(library(bayesbem))
 args <- commandArgs(trailingOnly = TRUE)
 ns <- if (length(args) > 0) as.integer(strsplit(args[1], ",")[[1]]) else c(12, 48, 120, 365)
@@ -40,6 +40,10 @@ truth <- list(fan_total_efficiency = 0.5, equipment_power_density = 15,
               infiltration_per_exterior_area = 0.0008)
 N_dense_max <- 4100
 dense_ref <- NULL
+# grid fits are run up to this many field periods (environment variable
+# BENCH_FIT_MAX_N); larger sizes get their time per gradient only
+fit_max_n <- as.integer(Sys.getenv("BENCH_FIT_MAX_N", "365"))
+grads_ref <- list()
 rows <- list()
 for (n in ns) {
   sim <- bem_simulator(daily_weather(epw, n))
@@ -64,13 +68,26 @@ for (n in ns) {
       g_dense <- dense_ref[["g"]] * (N / dense_ref[["N"]])^3
       dense_how <- sprintf("extrapolated (N^3 from N = %d)", dense_ref[["N"]])
     }
-    wall <- system.time(fit <- suppressWarnings(
-      calibrate(d, chains = 4, iter = 1000, seed = 3, cores = 2, refresh = 0)
-    ))[["elapsed"]]
-    s <- summary(fit)
-    all_s <- rbind(s$parameters, s$hyperparameters)
-    n_grad <- sum(rstan::get_num_leapfrog_per_iteration(fit$stanfit)) /
-      (1 - fit$settings$warmup / fit$settings$iter)
+    if (n <= fit_max_n) {
+      wall <- system.time(fit <- suppressWarnings(
+        calibrate(d, chains = 4, iter = 1000, seed = 3, cores = 2, refresh = 0)
+      ))[["elapsed"]]
+      s <- summary(fit)
+      all_s <- rbind(s$parameters, s$hyperparameters)
+      n_grad <- sum(rstan::get_num_leapfrog_per_iteration(fit$stanfit)) /
+        (1 - fit$settings$warmup / fit$settings$iter)
+      grads_ref[[as.character(mt)]] <- c(n = n, grads = n_grad)
+      fit_note <- ""
+    } else {
+      # not run: the gradients the largest fitted size of this mt used, at
+      # this size's time per gradient, two chains at a time
+      ref <- grads_ref[[as.character(mt)]]
+      n_grad <- ref[["grads"]]
+      wall <- NA_real_
+      all_s <- data.frame(rhat = NA_real_, ess_bulk = NA_real_)
+      fit_note <- sprintf("not run (est. %.0f min with n = %d's %.0f gradients)",
+                          n_grad * g_grid / 2 / 60, ref[["n"]], n_grad)
+    }
     dense_estimate <- n_grad * g_dense / 2
     dense_wall <- if (dense_estimate < 1800) {
       system.time(suppressWarnings(
@@ -83,7 +100,7 @@ for (n in ns) {
     rows[[length(rows) + 1]] <- data.frame(
       n = n, mt = mt, N = n * (mt + 1), grad_grid_ms = 1000 * g_grid,
       grad_dense_ms = 1000 * g_dense, grad_dense = dense_how, fit_grid_s = wall, max_rhat = max(all_s$rhat),
-      min_ess_bulk = min(all_s$ess_bulk), fit_dense_s = dense_wall,
+      min_ess_bulk = min(all_s$ess_bulk), fit_grid_note = fit_note, fit_dense_s = dense_wall,
       dense_note = if (is.na(dense_wall)) sprintf("skipped (est. %.0f min)", dense_estimate / 60) else ""
     )
     print(rows[[length(rows)]], digits = 3, row.names = FALSE)
