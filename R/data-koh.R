@@ -107,6 +107,11 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, grid_
   )
 }
 
+# `field` itself when it is a koh_data object, else koh_data(field, sim).
+as_koh_data <- function(field, sim) {
+  if (inherits(field, "koh_data")) field else koh_data(field, sim)
+}
+
 #' @export
 print.koh_data <- function(x, ...) {
   cat_lines("{.cls koh_data}: {x$n} field row{?s}, {x$m} simulation row{?s}",

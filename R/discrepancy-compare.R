@@ -114,15 +114,8 @@ compare_fits <- function(a, b, holdout = NULL, truth = NULL, ndraws = NULL) {
 }
 
 comparison_metrics <- function(a, b, holdout, ndraws, call = rlang::caller_env()) {
-  newdata <- obs <- NULL
-  if (!is.null(holdout)) {
-    check_holdout(holdout, a$data, call = call)
-    newdata <- holdout
-    obs <- holdout[[a$data$names$y]]
-  }
-  rows <- lapply(list(a = a, b = b), function(fit) {
-    calibration_metrics(fit, newdata = newdata, obs = obs, ndraws = ndraws)
-  })
+  if (!is.null(holdout)) check_holdout(holdout, a$data, call = call)
+  rows <- lapply(list(a = a, b = b), holdout_metrics, holdout = holdout, ndraws = ndraws)
   do.call(rbind, Map(function(name, m) data.frame(fit = name, m), names(rows), rows))
 }
 

@@ -52,7 +52,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       cores = getOption("mc.cores", 1L),
                       control = list(adapt_delta = 0.9), predict_at = NULL,
                       structure = c("auto", "grid", "dense"), covariates = NULL, ...) {
-  data <- if (inherits(field, "koh_data")) field else koh_data(field, sim)
+  data <- as_koh_data(field, sim)
   data <- add_discrepancy_terms(data, covariates)
   if (!is.null(covariates) && !is.null(predict_at)) {
     abort_bayesbem(c("{.arg predict_at} cannot be combined with {.arg covariates}.",

@@ -40,6 +40,13 @@ check_metric_input <- function(obs, pred, call = rlang::caller_env()) {
   }
 }
 
+# calibration_metrics() on the training data and, unless NULL, on `holdout`
+# (a data frame with the output column and the observable inputs).
+holdout_metrics <- function(fit, holdout, ndraws) {
+  obs <- if (!is.null(holdout)) holdout[[fit$data$names$y]]
+  calibration_metrics(fit, newdata = holdout, obs = obs, ndraws = ndraws)
+}
+
 #' Calibration metrics of a KOH fit, with the Guideline 14 verdict
 #'
 #' Compares the calibrated predictions (posterior mean of `eta + delta`)

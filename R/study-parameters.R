@@ -66,7 +66,7 @@ study_parameters <- function(field, sim = NULL, ranking = NULL, k = 2:6, n_runs 
     if (inherits(field, "koh_data")) field <- field$field[c(field$names$y, field$names$x)]
     datasets <- lapply(tables, function(runs) koh_data(field, runs))
   } else {
-    data <- study_data(field, sim)
+    data <- as_koh_data(field, sim)
     ranking <- study_ranking(ranking, data$names$t, k)
     cols <- data$names
     datasets <- lapply(k, function(kk) {

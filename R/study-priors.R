@@ -51,7 +51,7 @@
 #' }
 study_priors <- function(field, sim = NULL, levels = c("flat", "weak", "specific"), mu = NULL,
                          holdout = NULL, priors = koh_priors(), seed = 2018L, ndraws = NULL, ...) {
-  data <- study_data(field, sim)
+  data <- as_koh_data(field, sim)
   known <- c("flat", "weak", "specific")
   if (!is.character(levels) || length(levels) == 0L || !all(levels %in% known) ||
       anyDuplicated(levels)) {

@@ -39,13 +39,7 @@ study_posteriors <- function(fits, key) {
 # frame with the output and the observable inputs), one row per (setting, set).
 study_metrics <- function(fits, key, holdout, ndraws) {
   rows <- lapply(names(fits), function(label) {
-    fit <- fits[[label]]
-    newdata <- obs <- NULL
-    if (!is.null(holdout)) {
-      newdata <- holdout
-      obs <- holdout[[fit$data$names$y]]
-    }
-    data.frame(setting = label, calibration_metrics(fit, newdata, obs, ndraws = ndraws))
+    data.frame(setting = label, holdout_metrics(fits[[label]], holdout, ndraws))
   })
   out <- do.call(rbind, rows)
   names(out)[1] <- key
@@ -62,12 +56,6 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
                    "columns", call = call)
   }
   invisible(holdout)
-}
-
-# A study's data: a koh_data object, or made from the field and simulation
-# tables.
-study_data <- function(field, sim) {
-  if (inherits(field, "koh_data")) field else koh_data(field, sim)
 }
 
 # What both studies print: a header (a cli template evaluated in the
