@@ -54,12 +54,10 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   check_probability(level)
   check_probability(alpha)
   candidates <- explanation_candidates(fit$data, covariates)
-  tf <- as.matrix(fit$stanfit, pars = "tf")
-  tf <- tf[draw_subset(nrow(tf), ndraws), , drop = FALSE]
   with_seed(seed, {
-    eta <- predict_draws(fit, field_inputs(fit$data), ndraws = ndraws)$eta
-    residual <- t(fit$data$field[[fit$data$names$y]] - t(eta))
-    nuisance <- qr(recalibration_basis(eta, tf))
+    draws <- predict_draws(fit, field_inputs(fit$data), ndraws = ndraws)
+    residual <- t(fit$data$field[[fit$data$names$y]] - t(draws$eta))
+    nuisance <- qr(recalibration_basis(draws$eta, draws$tf))
     rows <- lapply(names(candidates), function(name) {
       explained_share(candidates[[name]], residual, nuisance, level, n_perm)
     })

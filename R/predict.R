@@ -65,7 +65,8 @@ predict.koh_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"
 }
 
 # Draws (rows) by points (columns) of y, eta and delta in physical units,
-# sampled jointly per posterior draw so that y = eta + delta (+ noise).
+# sampled jointly per posterior draw so that y = eta + delta (+ noise); and
+# the tf draws (rows, [0, 1] scale) they were conditioned on.
 predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE) {
   data <- fit$data
   g <- gp_geometry(data, scale_newdata(data, newdata), fit_structure(fit))
@@ -88,7 +89,8 @@ predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE) {
     y <- y + matrix(stats::rnorm(length(y), sd = sd_e), nrow(y))
   }
   s <- data$scaling
-  list(y = unscale_y(y, s), eta = unscale_y(eta, s), delta = unscale_y_spread(delta, s))
+  list(y = unscale_y(y, s), eta = unscale_y(eta, s), delta = unscale_y_spread(delta, s),
+       tf = do.call(rbind, lapply(pars, `[[`, "tf")))
 }
 
 # The likelihood structure a fit was made with (fits made before 0.2.0 are dense).
