@@ -21,12 +21,15 @@ for (kind in names(causes)) {
   outcome <- vapply(seq_len(draws), function(i) {
     case <- make_synthetic_case(kind, noise_seed = 100 + i)
     ex <- explain_discrepancy(case$base, case$train_covariates, n_perm = 500, seed = i)
-    c(named = any(ex$explains),
+    named <- ex$candidate[ex$explains]
+    cat(sprintf("%s, noise seed %d: named %s (top: %s, share %.2f, p %.3f)\n", kind, 100 + i,
+                if (length(named) > 0) paste(named, collapse = ", ") else "nothing",
+                ex$candidate[1], ex$share[1], ex$p_value[1]))
+    c(named = length(named) > 0,
       found = !is.na(causes[[kind]]) && ex$candidate[1] == causes[[kind]] && ex$explains[1])
   }, logical(2))
   rows[[kind]] <- data.frame(data = kind, draws = draws, cause_named = mean(outcome["named", ]),
                              true_cause_found = if (is.na(causes[[kind]])) NA else mean(outcome["found", ]))
-  print(rows[[kind]], row.names = FALSE)
 }
 cat("\nShare of noise draws (alpha = 0.05, Holm over 7 candidates, 500 permutations):\n")
 print(do.call(rbind, rows), row.names = FALSE)
