@@ -78,15 +78,21 @@ warn_convergence <- function(conv) {
 print.koh_convergence <- function(x, digits = 3, ...) {
   sp <- attr(x, "sampler")
   th <- attr(x, "thresholds")
-  cat(sprintf("Convergence: R-hat < %s and bulk/tail ESS >= %d for %d of %d parameters\n",
-              th$rhat_max, th$ess_min, sum(x$ok), nrow(x)))
-  cat(sprintf("Sampler: %d divergent transitions; %d iterations at max tree depth %d; E-BFMI %s\n\n",
-              sp$divergent, sp$treedepth_hits, sp$max_treedepth,
-              paste(format(sp$ebfmi, digits = 2), collapse = ", ")))
+  # a subset of the table keeps the class, but a column subset loses the attributes
+  if (!is.null(x$ok) && !is.null(th)) {
+    cat(sprintf("Convergence: R-hat < %s and bulk/tail ESS >= %d for %d of %d parameters\n",
+                th$rhat_max, th$ess_min, sum(x$ok), nrow(x)))
+  }
+  if (!is.null(sp)) {
+    cat(sprintf("Sampler: %d divergent transitions; %d iterations at max tree depth %d; E-BFMI %s\n\n",
+                sp$divergent, sp$treedepth_hits, sp$max_treedepth,
+                paste(format(sp$ebfmi, digits = 2), collapse = ", ")))
+  }
   out <- as.data.frame(unclass(x))
-  out$rhat <- round(out$rhat, 3)
-  out$ess_bulk <- round(out$ess_bulk)
-  out$ess_tail <- round(out$ess_tail)
+  digits_of <- c(rhat = 3, ess_bulk = 0, ess_tail = 0)
+  for (col in intersect(names(digits_of), names(out))) {
+    out[[col]] <- round(out[[col]], digits_of[[col]])
+  }
   print(out, row.names = FALSE)
   invisible(x)
 }

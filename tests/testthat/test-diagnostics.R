@@ -20,3 +20,9 @@ test_that("a deliberately short run gets a classed convergence warning", {
     class = "bayesbem_warning_convergence"
   )
 })
+
+test_that("a subset of the convergence table prints", {
+  conv <- check_convergence(seb_fit, warn = FALSE)
+  expect_output(print(conv[, c("variable", "rhat")]), "beta_eta\\[temp\\] +1.856")
+  expect_output(print(conv[conv$rhat > 0, ]), "of 15 parameters")
+})
