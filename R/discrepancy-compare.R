@@ -127,9 +127,7 @@ comparison_bias <- function(a, b, truth, call = rlang::caller_env()) {
                      i = "They are {.field {intersect(a$data$names$t, b$data$names$t)}}."),
                    "argument", call = call)
   }
-  means <- lapply(list(a, b), function(fit) {
-    colMeans(posterior::as_draws_matrix(as_draws_array.koh_fit(fit))[, shared, drop = FALSE])
-  })
+  means <- lapply(list(a, b), function(fit) colMeans(parameter_draws(fit, shared)))
   data.frame(parameter = shared, truth = truth[shared], bias_a = means[[1]] - truth[shared],
              bias_b = means[[2]] - truth[shared], row.names = NULL)
 }

@@ -59,11 +59,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                      i = "Predict after the fit with {.fn predict}, giving the covariates in {.arg newdata}."),
                    "argument")
   }
-  if (!inherits(priors, "koh_priors")) {
-    abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
-                     x = "It is {.obj_type_friendly {priors}}."),
-                   "prior")
-  }
+  check_priors(priors)
   check_count(chains)
   check_count(iter)
   check_count(cores)
@@ -180,6 +176,11 @@ as_draws_array.koh_fit <- function(x, ...) {
     arr[, , j] <- arr[, , j] * d$scaling$y_scale / d$h_scale[[k]]
   }
   posterior::as_draws_array(arr)
+}
+
+# Draws (rows) of calibration parameters `names` in physical units.
+parameter_draws <- function(fit, names = fit$data$names$t) {
+  posterior::as_draws_matrix(as_draws_array.koh_fit(fit))[, names, drop = FALSE]
 }
 
 #' @rdname as_draws.koh_fit

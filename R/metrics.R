@@ -47,6 +47,18 @@ holdout_metrics <- function(fit, holdout, ndraws) {
   calibration_metrics(fit, newdata = holdout, obs = obs, ndraws = ndraws)
 }
 
+# Held-out data need the output column and the observable inputs (checked
+# before any fit starts; values are checked where they are scaled).
+check_holdout <- function(holdout, data, call = rlang::caller_env()) {
+  needed <- c(data$names$y, data$names$x)
+  if (!is.data.frame(holdout) || !all(needed %in% names(holdout))) {
+    abort_bayesbem(c("{.arg holdout} must be a data frame with the output and the observable inputs, {.field {needed}}.",
+                     i = "Give the held-out outputs with their observable inputs (and covariates)."),
+                   "columns", call = call)
+  }
+  invisible(holdout)
+}
+
 #' Calibration metrics of a KOH fit, with the Guideline 14 verdict
 #'
 #' Compares the calibrated predictions (posterior mean of `eta + delta`)

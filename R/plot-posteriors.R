@@ -31,7 +31,7 @@ plot_posteriors <- function(fit, n_grid = 200) {
 #' @export
 plot_posteriors_data <- function(fit, n_grid = 200) {
   data <- fit$data
-  draws <- posterior::as_draws_matrix(as_draws_array.koh_fit(fit))
+  draws <- parameter_draws(fit)
   rows <- lapply(seq_len(data$q), function(k) {
     name <- data$names$t[k]
     lo <- data$scaling$t_min[[k]]

@@ -206,3 +206,11 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
     list(n_pred = NROW(x_pred),
          x_pred = if (is.null(x_pred)) matrix(0, 0, data$p) else x_pred))
 }
+
+check_priors <- function(priors, call = rlang::caller_env()) {
+  if (!inherits(priors, "koh_priors")) {
+    abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
+                     x = "It is {.obj_type_friendly {priors}}."),
+                   "prior", call = call)
+  }
+}

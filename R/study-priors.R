@@ -59,9 +59,7 @@ study_priors <- function(field, sim = NULL, levels = c("flat", "weak", "specific
                      x = "It is {.val {format(levels)}}."),
                    "argument")
   }
-  if (!inherits(priors, "koh_priors")) {
-    abort_bayesbem("{.arg priors} must be made by {.fn koh_priors}.", "prior")
-  }
+  check_priors(priors)
   if (!is.null(holdout)) check_holdout(holdout, data)
   call <- rlang::current_env()
   jobs <- lapply(stats::setNames(nm = levels), function(level) {

@@ -22,8 +22,7 @@ run_fits <- function(jobs) {
 study_posteriors <- function(fits, key) {
   rows <- lapply(names(fits), function(label) {
     fit <- fits[[label]]
-    draws <- posterior::as_draws_matrix(as_draws_array.koh_fit(fit))[, fit$data$names$t,
-                                                                    drop = FALSE]
+    draws <- parameter_draws(fit)
     q <- column_quantiles(draws, c(0.05, 0.25, 0.5, 0.75, 0.95))
     s <- fit$data$scaling
     data.frame(setting = label, parameter = colnames(draws), mean = colMeans(draws),
@@ -44,18 +43,6 @@ study_metrics <- function(fits, key, holdout, ndraws) {
   out <- do.call(rbind, rows)
   names(out)[1] <- key
   out
-}
-
-# Held-out data need the output column and the observable inputs (checked
-# before any fit starts; values are checked where they are scaled).
-check_holdout <- function(holdout, data, call = rlang::caller_env()) {
-  needed <- c(data$names$y, data$names$x)
-  if (!is.data.frame(holdout) || !all(needed %in% names(holdout))) {
-    abort_bayesbem(c("{.arg holdout} must be a data frame with the output and the observable inputs, {.field {needed}}.",
-                     i = "Give the held-out outputs with their observable inputs (and covariates)."),
-                   "columns", call = call)
-  }
-  invisible(holdout)
 }
 
 # What both studies print: a header (a cli template evaluated in the
