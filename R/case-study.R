@@ -3,7 +3,9 @@
 #' Runs the calibration of Chong and Menberg (2018) on [seb_field] and
 #' [seb_sim]: three calibration parameters (fan total efficiency, equipment
 #' power density, infiltration), the paper's hyperpriors, flat priors on the
-#' parameters, and NUTS with 4 chains, half of each warm-up. Prints the
+#' parameters, the package's linear emulator mean (`priors =
+#' koh_priors(emulator_mean = "zero")` gives the paper's zero mean), and NUTS
+#' with 4 chains, half of each warm-up. Prints the
 #' posterior summary, the convergence diagnostics and the ASHRAE Guideline 14
 #' metrics, and draws the posteriors, the paper's Fig 6 comparison and the
 #' trace plots.
@@ -11,7 +13,7 @@
 #' The paper ran 500 iterations per chain; here they leave two emulator
 #' length scales (`beta_eta[temp]`, `beta_eta[rh]`, whose posterior is
 #' bimodal) unconverged, so the default is 2000, which converges (every
-#' R-hat below 1.01) in about 30 seconds on 2 cores. `iter = 500` gives the
+#' R-hat below 1.01) in about 15 seconds on 2 cores. `iter = 500` gives the
 #' paper's run, with a convergence warning.
 #'
 #' @param chains,iter,seed,cores Passed to [calibrate()].
@@ -35,7 +37,7 @@ run_case_study <- function(chains = 4L, iter = 2000L, seed = 2018L,
   cat("\n")
   print(check_convergence(fit, warn = FALSE))
   cat("\nASHRAE Guideline 14 metrics of the calibrated predictions (percent):\n")
-  print(calibration_metrics(fit), row.names = FALSE)
+  print(calibration_metrics(fit))
   plots <- list(posteriors = plot_posteriors(fit), components = plot_components(fit),
                 trace = plot_trace(fit))
   if (is.null(plot_dir)) {

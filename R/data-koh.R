@@ -6,9 +6,14 @@
 #' The field table holds the measured output `y` and the `p` observable
 #' inputs `x`. The simulation table holds the simulator output `eta`, the
 #' same `p` inputs, and the `q` calibration parameters `t` of each run. By
-#' default columns are taken by position (field: `y`, then `x`; simulation:
-#' `eta`, then `x`, then `t`); name them with `y`, `eta`, `x` and `t` to pick
-#' columns by name instead (`x` names must then be in both tables).
+#' default `y` and `eta` are the first columns, `x` is every other field
+#' column, matched in `sim` by name, and `t` every other simulation column.
+#' An input in one table but not the other is an error, and so is a
+#' simulation column taken for a parameter that behaves like an input (one
+#' value per input setting). Only when no field input name is in `sim` (the
+#' paper's layout, `xf1` against `xc1`) are the simulation inputs taken by
+#' position, after `eta`. Name the columns with `y`, `eta`, `x` and `t` to
+#' choose them yourself.
 #'
 #' Simulation rows must be distinct: repeated runs with the same inputs and
 #' parameters make the emulator's covariance singular; average them first.
@@ -26,6 +31,10 @@
 #' @param y,eta Names of the output column in `field` and in `sim`.
 #' @param x Names of the observable-input columns, present in both tables.
 #' @param t Names of the calibration-parameter columns in `sim`.
+#' @param period Name of a `field` column of class `Date` or `POSIXct` that
+#'   dates each row (e.g. the first day of each billing month). It is not an
+#'   input: plots label the rows with it. By default the field's one such
+#'   column, if it has one.
 #' @param grid_tol Tolerance, on the scaled \[0, 1\] input scale, within
 #'   which a simulation row's inputs count as a field row's. When every run
 #'   has one row at each field input within this tolerance, the design is a
@@ -49,10 +58,13 @@
 #' koh_data(seb_field, seb_sim, y = "y", eta = "eta", x = c("temp", "rh", "solar"),
 #'          t = c("fan_total_efficiency", "equipment_power_density",
 #'                "infiltration_per_exterior_area"))
-koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, grid_tol = 1e-6) {
+koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, period = NULL,
+                     grid_tol = 1e-6) {
   field <- as_numeric_table(field)
   sim <- as_numeric_table(sim)
-  cols <- koh_columns(field, sim, y = y, eta = eta, x = x, t = t)
+  period <- period_column(field, period)
+  cols <- koh_columns(field[setdiff(names(field), period)], sim, y = y, eta = eta, x = x, t = t)
+  cols$period <- period
   check_numeric_complete(field, c(cols$y, cols$x), "field")
   check_numeric_complete(sim, c(cols$eta, cols$x_sim, cols$t), "sim")
   n <- nrow(field)
@@ -107,6 +119,11 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, grid_
   )
 }
 
+# The field table's output, inputs and period columns, as koh_data() takes them.
+field_table <- function(data) {
+  data$field[c(data$names$y, data$names$x, data$names$period)]
+}
+
 # `field` itself when it is a koh_data object, else koh_data(field, sim).
 as_koh_data <- function(field, sim) {
   if (inherits(field, "koh_data")) field else koh_data(field, sim)
@@ -114,10 +131,14 @@ as_koh_data <- function(field, sim) {
 
 #' @export
 print.koh_data <- function(x, ...) {
+  rlang::check_dots_empty()
   cat_lines("{.cls koh_data}: {x$n} field row{?s}, {x$m} simulation row{?s}",
             "* output: {.field {x$names$y}} (field), {.field {x$names$eta}} (simulation)",
             "* {x$p} observable input{?s} x: {.field {x$names$x}}",
             "* {x$q} calibration parameter{?s} t: {.field {x$names$t}}",
+            if (!is.null(x$names$period)) {
+              "* rows dated by {.field {x$names$period}}: {period_labels(x)[1]} to {period_labels(x)[x$n]}"
+            },
             if (!is.null(x$grid)) {
               "* grid design: {x$grid$mt} runs at {x$grid$n_x} inputs, the {x$n} field inputs among them (matched within {signif(x$grid$max_diff, 2)} of their range)"
             })
@@ -142,30 +163,112 @@ as_numeric_table <- function(d, arg = rlang::caller_arg(d), call = rlang::caller
   d
 }
 
-# Resolves which columns are y, eta, x and t: by name when given, else by
-# position. `x_sim` holds the simulation table's names for the x columns.
+# The name of the field's date column: `period` when given (checked), else
+# the one Date or POSIXct column, else NULL.
+period_column <- function(field, period, call = rlang::caller_env()) {
+  is_date <- vapply(field, function(v) inherits(v, c("Date", "POSIXct")), logical(1))
+  if (is.null(period)) {
+    if (sum(is_date) > 1L) {
+      abort_bayesbem(c("{.arg field} has more than one date column: {.field {names(field)[is_date]}}.",
+                       i = "Name the one that dates the rows with {.arg period}, and drop the others."),
+                     "columns", call = call)
+    }
+    return(if (any(is_date)) names(field)[is_date])
+  }
+  if (!rlang::is_string(period) || !period %in% names(field) || !is_date[[period]]) {
+    abort_bayesbem(c("{.arg period} must name a column of {.arg field} of class {.cls Date} or {.cls POSIXct}.",
+                     i = "Its date columns: {.field {names(field)[is_date]}}{if (!any(is_date)) 'none'}; convert one with {.fn as.Date}."),
+                   "columns", call = call)
+  }
+  if (anyNA(field[[period]])) {
+    abort_bayesbem("Column {.field {period}} of {.arg field} has missing dates.", "missing", call = call)
+  }
+  period
+}
+
+# Labels of rows for plots: their dates when `rows` (a data frame with the
+# fit's columns) has the data's period column ("Jan 2013" when every date is
+# a first of the month), else the row numbers.
+period_labels <- function(data, rows = data$field) {
+  period <- data$names$period
+  if (is.null(period) || !period %in% names(rows)) {
+    return(as.character(seq_len(nrow(rows))))
+  }
+  dates <- as.Date(rows[[period]])
+  if (!all(format(dates, "%d") == "01")) {
+    return(format(dates, "%Y-%m-%d"))
+  }
+  # month.abb, not %b, so that labels do not depend on the locale
+  paste(month.abb[as.integer(format(dates, "%m"))], format(dates, "%Y"))
+}
+
+# Resolves which columns are y, eta, x and t. Named x and t are taken as
+# given. Otherwise x is every field column but y, found in `sim` by name; only
+# when none of those names is in `sim` (the paper's CSVs: xf1 vs xc1) are the
+# simulation inputs taken by position. `x_sim` holds the simulation table's
+# names for the x columns.
 koh_columns <- function(field, sim, y, eta, x, t, call = rlang::caller_env()) {
-  by_position <- is.null(x)
   y <- y %||% names(field)[1]
   eta <- eta %||% names(sim)[1]
+  named_x <- !is.null(x)
   x <- x %||% setdiff(names(field), y)
   check_has_columns(field, c(y, x), "field", call)
-  p <- length(x)
-  if (by_position && ncol(sim) < p + 2L) {
-    abort_bayesbem(
-      c("{.arg sim} must have eta, the {p} observable input{?s} of {.arg field}, and at least one calibration parameter: {p + 2} columns or more.",
-        x = "It has {ncol(sim)} column{?s}: the field and simulation tables differ in their number of input columns.",
-        i = "Give {.arg sim} the same inputs as {.arg field}, or name the columns with {.arg x} and {.arg t}."),
-      "columns", call = call)
-  }
-  x_sim <- if (by_position) names(sim)[1 + seq_len(p)] else x
+  x_sim <- if (named_x || any(x %in% names(sim))) x else positional_inputs(sim, x, call)
+  check_inputs_in_sim(sim, x_sim, call)
+  named_t <- !is.null(t)
   t <- t %||% setdiff(names(sim), c(eta, x_sim))
   check_has_columns(sim, c(eta, x_sim, t), "sim", call)
   if (length(t) < 1L) {
     abort_bayesbem("{.arg sim} must have at least one calibration-parameter column.",
                    "columns", call = call)
   }
+  if (!named_t) check_no_stray_inputs(sim, x_sim, t, call)
   list(y = y, eta = eta, x = x, x_sim = x_sim, t = t)
+}
+
+# The paper's layout: the p simulation inputs follow eta.
+positional_inputs <- function(sim, x, call) {
+  p <- length(x)
+  if (ncol(sim) < p + 2L) {
+    abort_bayesbem(
+      c("{.arg sim} must have eta, the {p} observable input{?s} of {.arg field}, and at least one calibration parameter: {p + 2} columns or more.",
+        x = "It has {ncol(sim)} column{?s}: the field and simulation tables differ in their number of input columns.",
+        i = "Give {.arg sim} the same inputs as {.arg field}, or name the columns with {.arg x} and {.arg t}."),
+      "columns", call = call)
+  }
+  names(sim)[1 + seq_len(p)]
+}
+
+# Field inputs matched by name must all be in `sim`.
+check_inputs_in_sim <- function(sim, x_sim, call) {
+  missing <- setdiff(x_sim, names(sim))
+  if (length(missing) > 0L) {
+    abort_bayesbem(c("{cli::qty(length(missing))}Field input{?s} {.field {missing}} {?is/are} not in {.arg sim}.",
+                     i = "Inputs are matched by name: give {.arg sim} the same input columns as {.arg field}, or drop {cli::qty(length(missing))}{?it/them} from {.arg field}."),
+                     "columns", call = call)
+  }
+}
+
+# A column of `sim` that is in no field column but takes one value per input
+# setting (constant among the rows at the same x, wherever an x repeats) is
+# an observable input the field table lacks, not a calibration parameter.
+check_no_stray_inputs <- function(sim, x_sim, t, call) {
+  key <- row_keys(as.matrix(sim[x_sim]))
+  repeated <- key %in% key[duplicated(key)]
+  if (!any(repeated)) {
+    return(invisible())
+  }
+  # constant columns are left to check_varies()
+  stray <- t[vapply(t, function(col) {
+    values <- split(sim[[col]][repeated], key[repeated])
+    length(unique(sim[[col]])) > 1L && all(vapply(values, function(v) all(v == v[1]), logical(1)))
+  }, logical(1))]
+  if (length(stray) > 0L) {
+    n <- length(stray)
+    abort_bayesbem(c("{cli::qty(n)}Column{?s} {.field {stray}} of {.arg sim} {?is/are} not in {.arg field} but take{?s/} one value per input setting, like an observable input.",
+                     i = "{cli::qty(n)}Add {?it/them} to {.arg field}, drop {?it/them} from {.arg sim}, or name the columns with {.arg x} and {.arg t}."),
+                   "columns", call = call)
+  }
 }
 
 check_has_columns <- function(d, cols, arg, call) {
@@ -180,6 +283,11 @@ check_has_columns <- function(d, cols, arg, call) {
 check_numeric_complete <- function(d, cols, arg, call = rlang::caller_env()) {
   for (col in cols) {
     v <- d[[col]]
+    if (length(v) > 0L && all(is.na(v))) {
+      abort_bayesbem(c("Column {.field {col}} of {.arg {arg}} is missing: all its values are {.code NA}.",
+                       i = "Give its values; every row needs them."),
+                     "missing", call = call)
+    }
     if (!is.numeric(v)) {
       abort_bayesbem(c("Column {.field {col}} of {.arg {arg}} must be numeric.",
                        x = "It is {.obj_type_friendly {v}}.",

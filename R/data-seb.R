@@ -4,12 +4,14 @@
 #' 79 m2 single-storey building in Golden, Colorado (the case study of Chong
 #' and Menberg 2018), with the monthly weather that drives it.
 #'
-#' @format A data frame with 12 rows (months, January first) and 4 columns:
+#' @format A data frame with 12 rows (months, January first) and 5 columns:
 #' \describe{
 #'   \item{y}{measured monthly electricity use (kWh)}
 #'   \item{temp}{monthly mean outdoor dry-bulb temperature (degrees C)}
 #'   \item{rh}{monthly mean outdoor relative humidity (percent)}
 #'   \item{solar}{monthly mean direct solar radiation rate per area (W/m2)}
+#'   \item{month}{the first day of the month (`Date`); [koh_data()] takes it
+#'     as the rows' period, not as an input}
 #' }
 #' `temp` and `rh` are exactly the monthly means of the 2013 weather file
 #' shipped as `system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")`;

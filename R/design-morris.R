@@ -35,7 +35,7 @@
 screen_morris <- function(simulator, params = simulator$parameters, r = 10, levels = 6,
                           seed = NULL, output = c("sum", "period")) {
   rlang::check_installed("sensitivity", reason = "for Morris screening.")
-  output <- match.arg(output)
+  output <- match_choice(output)
   params <- check_parameter_table(params)
   check_count(r)
   check_count(levels)
@@ -82,6 +82,7 @@ morris_effects <- function(design, y) {
 
 #' @export
 print.bayesbem_morris <- function(x, digits = 3, ...) {
+  rlang::check_dots_empty()
   cat("Morris screening (effects relative to the mean output, over each parameter's range)\n")
   print(as.data.frame(unclass(x)), digits = digits, row.names = FALSE)
   invisible(x)

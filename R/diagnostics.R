@@ -6,13 +6,17 @@
 #' number of divergent transitions, of iterations that hit the maximum tree
 #' depth, and the E-BFMI of each chain. Raises one warning of class
 #' `bayesbem_warning_convergence`, with a plain-language hint, when any
-#' R-hat is at least `rhat_max`, any ESS is below `ess_min`, or any
-#' transition diverged; [calibrate()] calls it at the end of every fit.
+#' R-hat is at least `rhat_max`, any ESS is below `ess_min`, any transition
+#' diverged, any iteration hit the maximum tree depth, or any chain's E-BFMI
+#' is below `ebfmi_min`; [calibrate()] calls it at the end of every fit
+#' (rstan's own, unclassed warnings of these kinds are not shown).
 #'
 #' @param fit A `koh_fit`.
 #' @param rhat_max R-hat at or above which a parameter has not converged.
 #' @param ess_min Smallest acceptable bulk and tail ESS; by default 100 per
 #'   chain (400 for 4 chains).
+#' @param ebfmi_min Smallest acceptable E-BFMI of a chain (0.3, the
+#'   threshold of Betancourt 2016 that Stan's documentation uses).
 #' @param warn Raise the warning (`TRUE`) or only return the table.
 #' @return A data frame of class `koh_convergence` with columns `variable`,
 #'   `rhat`, `ess_bulk`, `ess_tail` and `ok`, and an attribute `sampler`: a
@@ -22,16 +26,42 @@
 #' @export
 #' @examples
 #' check_convergence(seb_fit, warn = FALSE)
-check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, warn = TRUE) {
+check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 0.3,
+                              warn = TRUE) {
   ess_min <- ess_min %||% (100 * fit$settings$chains)
-  s <- summarise_fit(fit, rhat = posterior::rhat,
-                     ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail)
+  s <- summarise_fit(fit, rhat = posterior::rhat, ess_bulk = posterior::ess_bulk,
+                     ess_tail = posterior::ess_tail)
+  sampler <- fit_sampler_diagnostics(fit)
   s$ok <- s$rhat < rhat_max & s$ess_bulk >= ess_min & s$ess_tail >= ess_min
-  sampler <- sampler_diagnostics(fit$stanfit)
   out <- structure(s, class = c("koh_convergence", "data.frame"), sampler = sampler,
-                   thresholds = list(rhat_max = rhat_max, ess_min = ess_min))
+                   thresholds = list(rhat_max = rhat_max, ess_min = ess_min,
+                                     ebfmi_min = ebfmi_min))
   if (warn) warn_convergence(out)
   out
+}
+
+# Stage-1 draws of a modular fit's emulator hyperparameters, named as in
+# as_draws_array.koh_fit().
+emulator_draws <- function(fit) {
+  d <- fit$data
+  b_names <- mean_term_names(fit$priors, d)
+  arr <- as.array(fit$emulator$stanfit,
+                  pars = c("beta_eta", "lambda_eta", if (length(b_names) > 0L) "b"))
+  dimnames(arr)[[3]] <- c(sprintf("beta_eta[%s]", c(d$names$x, d$names$t)), "lambda_eta",
+                          sprintf("b[%s]", b_names))
+  posterior::as_draws_array(arr)
+}
+
+# The sampler's problems in a fit; for a modular fit, in both stages:
+# divergences and tree-depth hits add up, every chain's E-BFMI is kept.
+fit_sampler_diagnostics <- function(fit) {
+  a <- sampler_diagnostics(fit$stanfit)
+  if (is.null(fit$emulator)) {
+    return(a)
+  }
+  b <- sampler_diagnostics(fit$emulator$stanfit)
+  list(divergent = a$divergent + b$divergent, treedepth_hits = a$treedepth_hits + b$treedepth_hits,
+       max_treedepth = a$max_treedepth, ebfmi = c(b$ebfmi, a$ebfmi))
 }
 
 sampler_diagnostics <- function(stanfit) {
@@ -64,11 +94,21 @@ warn_convergence <- function(conv) {
     problems <- c(problems, x = cli::format_inline(
       "{sp$divergent} divergent transition{?s}: the sampler missed part of the posterior."))
   }
+  if (sp$treedepth_hits > 0L) {
+    problems <- c(problems, x = cli::format_inline(
+      "{sp$treedepth_hits} iteration{?s} hit the maximum tree depth ({sp$max_treedepth}): the sampler stopped its trajectories early."))
+  }
+  low_bfmi <- which(sp$ebfmi < th$ebfmi_min)
+  if (length(low_bfmi) > 0L) {
+    problems <- c(problems, x = cli::format_inline(
+      "E-BFMI < {th$ebfmi_min} in {cli::qty(length(low_bfmi))}chain{?s} {low_bfmi}: the sampler explores the energy (the hyperparameters' scale) poorly."))
+  }
   if (length(problems) == 0L) {
     return(invisible(conv))
   }
-  hint <- c(i = paste("Run more iterations (e.g. {.code iter = 2000}) and, for divergences,",
-                      "raise {.code control = list(adapt_delta = 0.95)}; check",
+  hint <- c(i = paste("Run more iterations (e.g. {.code iter = 2000}); for divergences",
+                      "raise {.code control = list(adapt_delta = 0.95)}, for tree depth",
+                      "{.code control = list(max_treedepth = 12)}; check",
                       "{.code plot(fit, type = \"trace\")}."))
   warn_bayesbem(c("The calibration may not have converged.", problems, hint), "convergence")
   invisible(conv)
@@ -76,6 +116,7 @@ warn_convergence <- function(conv) {
 
 #' @export
 print.koh_convergence <- function(x, digits = 3, ...) {
+  rlang::check_dots_empty()
   sp <- attr(x, "sampler")
   th <- attr(x, "thresholds")
   # a subset of the table keeps the class, but a column subset loses the attributes

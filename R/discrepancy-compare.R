@@ -19,6 +19,7 @@
 #' @examples
 #' loo::loo(seb_fit, ndraws = 200)
 loo.koh_fit <- function(x, ndraws = NULL, ...) {
+  rlang::check_dots_empty()
   ll <- loo_log_lik(x, ndraws)
   chains <- x$settings$chains
   r_eff <- if (is.null(ndraws) && nrow(ll) %% chains == 0L) {
@@ -134,6 +135,7 @@ comparison_bias <- function(a, b, truth, call = rlang::caller_env()) {
 
 #' @export
 print.koh_comparison <- function(x, digits = 3, ...) {
+  rlang::check_dots_empty()
   cat(x$verdict, "\n\n")
   for (part in c("elpd", "metrics", "discrepancy", "bias")) {
     if (is.null(x[[part]])) next

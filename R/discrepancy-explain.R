@@ -144,6 +144,7 @@ explanation_verdict <- function(x, level) {
 
 #' @export
 print.koh_explanation <- function(x, digits = 3, ...) {
+  rlang::check_dots_empty()
   cat(attr(x, "verdict"), "\n\n")
   print_rounded(as.data.frame(unclass(x)), digits)
   invisible(x)

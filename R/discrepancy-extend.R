@@ -47,7 +47,7 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
   data <- fit$data
   terms <- data$covariates
   if (!is.null(sim)) {
-    data <- koh_data(data$field[c(data$names$y, data$names$x)], sim)
+    data <- koh_data(field_table(data), sim)
   } else {
     terms <- extension_covariates(data, with, covariates)
   }
@@ -55,7 +55,8 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
   args <- utils::modifyList(
     list(field = data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
          warmup = settings$warmup, seed = settings$seed,
-         structure = settings$structure %||% "auto", covariates = terms),
+         structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
+         covariates = terms),
     list(...)
   )
   do.call(calibrate, args)

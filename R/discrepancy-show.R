@@ -70,6 +70,7 @@ discrepancy_verdict <- function(d, level) {
 
 #' @export
 print.koh_discrepancy <- function(x, digits = 3, ...) {
+  rlang::check_dots_empty()
   cat(attr(x, "verdict"), "\n\n")
   print_rounded(as.data.frame(unclass(x)), digits)
   invisible(x)

@@ -7,7 +7,7 @@
 #' package is installed.
 #'
 #' @param field A [koh_data()] object, or the field data frame (then `sim` is
-#'   required and columns are taken by position, see [koh_data()]).
+#'   required and columns are found as [koh_data()] describes).
 #' @param sim The simulation data frame when `field` is a data frame.
 #' @param priors A [koh_priors()] object.
 #' @param chains,iter Number of Markov chains and iterations per chain
@@ -35,8 +35,21 @@
 #' @param covariates Optional data frame, one row per field row, whose
 #'   columns enter the discrepancy as parametric terms (see [extend()], which
 #'   is the usual way to add them).
-#' @param ... Further arguments to [rstan::sampling()], e.g. `init` or
-#'   `refresh`.
+#' @param modular Fit in two stages (Liu, Bayarri and Berger 2009): the
+#'   emulator's hyperparameters from the simulation runs alone (on at most 60
+#'   of the grid inputs), then the calibration parameters, the discrepancy
+#'   and the noise with the emulator fixed at the stage-1 posterior medians.
+#'   The field data then cannot pull the emulator into modes that only
+#'   explain them, and each stage-2 gradient costs one n x n Cholesky
+#'   factor. Needs a grid design. [check_convergence()] judges the emulator's
+#'   hyperparameters on their stage-1 chains (stored in `fit$emulator`).
+#' @param progress Show a progress bar over all chains while sampling
+#'   (Stan's own per-chain iteration lines are not printed). The default is
+#'   the option `bayesbem.progress`, `TRUE` unless set.
+#' @param ... Further arguments to [rstan::sampling()]: `init`, `init_r`,
+#'   `refresh`, `thin`, `save_warmup`, `sample_file`, `diagnostic_file`,
+#'   `verbose`, `check_data`, `show_messages` or `enable_random_init` (any
+#'   other is an error).
 #' @return An object of class `koh_fit`: the `stanfit`, the [koh_data()]
 #'   (with its scaling), the priors and the sampler settings. Use `print()`,
 #'   `summary()` and [posterior::as_draws()] on it.
@@ -51,7 +64,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       iter = 2000L, warmup = floor(iter / 2), seed = NULL,
                       cores = getOption("mc.cores", 1L),
                       control = list(adapt_delta = 0.9), predict_at = NULL,
-                      structure = c("auto", "grid", "dense"), covariates = NULL, ...) {
+                      structure = c("auto", "grid", "dense"), covariates = NULL,
+                      modular = FALSE, progress = getOption("bayesbem.progress", TRUE), ...) {
   data <- as_koh_data(field, sim)
   data <- add_discrepancy_terms(data, covariates)
   if (!is.null(covariates) && !is.null(predict_at)) {
@@ -59,6 +73,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                      i = "Predict after the fit with {.fn predict}, giving the covariates in {.arg newdata}."),
                    "argument")
   }
+  check_dots_in(list(...), sampling_arguments(), "rstan::sampling()")
   check_priors(priors)
   check_count(chains)
   check_count(iter)
@@ -70,31 +85,56 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   }
   seed <- seed %||% sample.int(.Machine$integer.max, 1L)
   check_count(seed)
-  structure <- choose_structure(data, match.arg(structure), predict_at)
-  x_pred <- if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at")
-  stan_data <- koh_stan_data(data, priors, x_pred, structure)
-  model <- if (structure == "grid") stanmodels$koh_grid else stanmodels$koh
-  stanfit <- muffle_rstan_diagnostics(
-    rstan::sampling(model, data = stan_data, chains = chains,
-                    iter = iter, warmup = warmup, seed = seed,
-                    cores = min(cores, chains), control = control, ...)
-  )
-  if (stanfit@mode != 0L) {
-    abort_sampling_failure(data, priors$nugget, structure)
-  }
+  structure <- choose_structure(data, match_choice(structure), predict_at)
+  check_modular(modular, structure)
+  fit_env <- environment()
+  sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
+                  cores = min(cores, chains), control = control, args = list(...),
+                  progress = progress, on_failure = function(messages) {
+                    abort_sampling_failure(data, priors$nugget, structure, messages, call = fit_env)
+                  })
+  emulator <- if (modular) fit_emulator(data, priors, sampler)
+  stan_data <- if (modular) modular_stan_data(data, priors, emulator) else
+    koh_stan_data(data, priors, if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at"),
+                  structure)
+  model <- if (modular) stanmodels$koh_modular else
+    if (structure == "grid") stanmodels$koh_grid else stanmodels$koh
+  label <- sprintf("%sampling %d chain%s", if (modular) "Stage 2: s" else "S", chains,
+                   if (chains > 1L) "s" else "")
+  stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label), sampler))
   fit <- new_koh_fit(stanfit, data = data, priors = priors,
                      settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
-                                     structure = structure),
-                     predict_at = if (!is.null(predict_at)) predict_at[data$names$x])
+                                     structure = structure, modular = modular),
+                     predict_at = if (!is.null(predict_at)) predict_at[data$names$x],
+                     emulator = emulator)
   check_convergence(fit)
   fit
+}
+
+check_modular <- function(modular, structure, call = rlang::caller_env()) {
+  if (!rlang::is_bool(modular)) {
+    abort_bayesbem("{.arg modular} must be {.code TRUE} or {.code FALSE}, not {describe_value(modular)}.",
+                   "argument", call = call)
+  }
+  if (modular && structure != "grid") {
+    abort_bayesbem(c("The modular fit needs a grid design: every simulation run at every field input.",
+                     i = "Use {.code modular = FALSE}, or run the simulator at the field inputs (see {.fn simulate_design})."),
+                   "argument", call = call)
+  }
+}
+
+# The rstan::sampling() arguments calibrate() passes on through `...` (it sets
+# the others itself).
+sampling_arguments <- function() {
+  c("init", "init_r", "refresh", "thin", "save_warmup", "sample_file", "diagnostic_file",
+    "verbose", "check_data", "show_messages", "enable_random_init")
 }
 
 # Stan stops when a Cholesky factor fails at every initial value; Stan only
 # says "Matrix m is not positive definite". Name the matrix: the emulator's
 # correlation factors are tried at long length scales (rho up to 0.999),
 # where they are closest to singular.
-abort_sampling_failure <- function(data, nugget, structure, call = rlang::caller_env()) {
+abort_sampling_failure <- function(data, nugget, structure, messages, call = rlang::caller_env()) {
   factors <- list("the correlation of the field inputs (K_x)" = data$xf)
   if (structure == "grid") {
     factors[["the correlation of the simulation runs (K_t)"]] <- data$grid$design
@@ -109,8 +149,10 @@ abort_sampling_failure <- function(data, nugget, structure, call = rlang::caller
     }, logical(1)))
   }, logical(1))]
   if (length(singular) == 0L) {
-    abort_bayesbem(c("Stan could not sample the model.",
-                     i = "Rerun with {.code refresh = 1} to see Stan's messages."),
+    # Stan's lines are shown as they are (cli would interpolate their braces)
+    said <- gsub("}", "}}", gsub("{", "{{", messages, fixed = TRUE), fixed = TRUE)
+    abort_bayesbem(c("Stan could not sample the model. Its last messages:",
+                     stats::setNames(said, rep(" ", length(said)))),
                    "sampling", call = call)
   }
   abort_bayesbem(c("Stan could not sample the model: the Cholesky factor of {singular[1]} failed.",
@@ -119,19 +161,9 @@ abort_sampling_failure <- function(data, nugget, structure, call = rlang::caller
                  "cholesky", call = call)
 }
 
-# rstan's own convergence warnings are unclassed; check_convergence() reports
-# the same problems with a class and a hint, so those are muffled here.
-muffle_rstan_diagnostics <- function(expr) {
-  pattern <- paste("divergent transition|maximum treedepth|R-hat|Effective Samples Size",
-                   "BFMI|pairs\\(\\) plot|chains have not mixed", sep = "|")
-  withCallingHandlers(expr, warning = function(w) {
-    if (grepl(pattern, conditionMessage(w))) invokeRestart("muffleWarning")
-  })
-}
-
-new_koh_fit <- function(stanfit, data, priors, settings, predict_at = NULL) {
+new_koh_fit <- function(stanfit, data, priors, settings, predict_at = NULL, emulator = NULL) {
   structure(list(stanfit = stanfit, data = data, priors = priors, settings = settings,
-                 predict_at = predict_at),
+                 predict_at = predict_at, emulator = emulator),
             class = "koh_fit")
 }
 
@@ -141,7 +173,9 @@ new_koh_fit <- function(stanfit, data, priors, settings, predict_at = NULL) {
 #' simulation table and given in their physical units; the correlation
 #' parameters `beta_eta[...]` and `beta_delta[...]` are labelled by input;
 #' `lambda_eta`, `lambda_delta` and `lambda_e` are precisions on the
-#' standardised output scale.
+#' standardised output scale; `b[...]` are the coefficients of the emulator
+#' mean (see [koh_priors()]) on the standardised output scale per unit of
+#' the scaled \[0, 1\] inputs.
 #'
 #' @param x A `koh_fit`.
 #' @param ... Unused.
@@ -155,11 +189,14 @@ NULL
 #' @rdname as_draws.koh_fit
 #' @exportS3Method posterior::as_draws_array
 as_draws_array.koh_fit <- function(x, ...) {
+  rlang::check_dots_empty()
   d <- x$data
   h_names <- names(d$covariates)
+  b_names <- mean_term_names(x$priors, d)
   arr <- as.array(x$stanfit, pars = c("tf", "beta_eta", "beta_delta", "lambda_eta",
                                       "lambda_delta", "lambda_e",
-                                      if (length(h_names) > 0L) "gamma", "lp__"))
+                                      if (length(h_names) > 0L) "gamma",
+                                      if (length(b_names) > 0L) "b", "lp__"))
   tf <- grep("^tf\\[", dimnames(arr)[[3]])
   for (k in seq_along(tf)) {
     arr[, , tf[k]] <- arr[, , tf[k]] * (d$scaling$t_max[[k]] - d$scaling$t_min[[k]]) +
@@ -169,13 +206,20 @@ as_draws_array.koh_fit <- function(x, ...) {
                           sprintf("beta_eta[%s]", c(d$names$x, d$names$t)),
                           sprintf("beta_delta[%s]", d$names$x),
                           "lambda_eta", "lambda_delta", "lambda_e",
-                          sprintf("gamma[%s]", h_names), "lp__")
+                          sprintf("gamma[%s]", h_names), sprintf("b[%s]", b_names), "lp__")
   # discrepancy-term coefficients in output units per covariate unit
   for (k in seq_along(h_names)) {
     j <- sprintf("gamma[%s]", h_names[k])
     arr[, , j] <- arr[, , j] * d$scaling$y_scale / d$h_scale[[k]]
   }
   posterior::as_draws_array(arr)
+}
+
+# The terms of the emulator mean: "intercept" and the names of the inputs
+# and parameters it is linear in.
+mean_term_names <- function(priors, data) {
+  all <- c("intercept", data$names$x, data$names$t)
+  all[rowSums(mean_selection(priors, data$p, data$q)) > 0]
 }
 
 # Draws (rows) of calibration parameters `names` in physical units.
@@ -189,7 +233,7 @@ as_draws.koh_fit <- function(x, ...) as_draws_array.koh_fit(x, ...)
 
 #' @rdname as_draws.koh_fit
 #' @exportS3Method posterior::as_draws_df
-as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.koh_fit(x))
+as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.koh_fit(x, ...))
 
 #' Summarise a KOH calibration
 #'
@@ -201,14 +245,17 @@ as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.ko
 #' @param object,x A `koh_fit`, or for `print()` its summary.
 #' @param ... Unused.
 #' @return `summary()` returns an object of class `summary.koh_fit`: a list
-#'   with data frames `parameters` and `hyperparameters`, and the sizes and
-#'   sampler settings; `print()` returns its argument invisibly.
+#'   with data frames `parameters` and `hyperparameters` (row names: the
+#'   variables), and the sizes and sampler settings; `print()` shows each
+#'   row to two significant digits of its sd and returns its argument
+#'   invisibly.
 #' @family calibration
 #' @export
 #' @examples
 #' summary(seb_fit)$parameters
 #' seb_fit
 summary.koh_fit <- function(object, ...) {
+  rlang::check_dots_empty()
   s <- summarise_fit(
     object, mean = mean, sd = stats::sd,
     quantiles = function(v) {
@@ -218,22 +265,36 @@ summary.koh_fit <- function(object, ...) {
     rhat = posterior::rhat, ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail
   )
   is_tf <- s$variable %in% object$data$names$t
+  rownames(s) <- s$variable
   structure(
     list(parameters = s[is_tf, , drop = FALSE],
          hyperparameters = s[!is_tf, , drop = FALSE],
          data = object$data[c("n", "m", "p", "q")],
          settings = object$settings,
-         sampler = sampler_diagnostics(object$stanfit)),
+         sampler = fit_sampler_diagnostics(object)),
     class = "summary.koh_fit"
   )
 }
 
 # posterior::summarise_draws() over every variable of a fit but lp__, with
-# plain numeric columns (not posterior's pillar-formatted ones).
+# plain numeric columns (not posterior's pillar-formatted ones). A modular
+# fit's emulator hyperparameters are constant in stage 2: their rows
+# summarise their stage-1 draws instead.
 summarise_fit <- function(fit, ...) {
   draws <- as_draws_array.koh_fit(fit)
   draws <- posterior::subset_draws(draws, variable = setdiff(posterior::variables(draws), "lp__"))
-  s <- withCallingHandlers(posterior::summarise_draws(draws, ...), warning = function(w) {
+  s <- summarise_quietly(draws, list(...))
+  if (!is.null(fit$emulator)) {
+    stage1 <- summarise_quietly(emulator_draws(fit), list(...))
+    s[match(stage1$variable, s$variable), ] <- stage1
+  }
+  s
+}
+
+# posterior::summarise_draws(draws, <measures>) as a plain data frame.
+summarise_quietly <- function(draws, measures) {
+  s <- withCallingHandlers(do.call(posterior::summarise_draws, c(list(draws), measures)),
+                           warning = function(w) {
     # posterior notes each time that it caps a short run's ESS at S log10(S);
     # the capped (smaller) value is what is reported and tested, so muffle it
     if (grepl("ESS has been capped", conditionMessage(w), fixed = TRUE)) {
@@ -244,34 +305,55 @@ summarise_fit <- function(fit, ...) {
 }
 
 #' @rdname summary.koh_fit
-#' @param digits Significant digits to print.
 #' @export
-print.summary.koh_fit <- function(x, digits = 3, ...) {
+print.summary.koh_fit <- function(x, ...) {
+  rlang::check_dots_empty()
   st <- x$settings
-  cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters (%s likelihood)\n",
-              x$data$n, x$data$m, x$data$p, x$data$q, st$structure %||% "dense"))
+  cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters (%s likelihood%s)\n",
+              x$data$n, x$data$m, x$data$p, x$data$q, st$structure %||% "dense",
+              if (isTRUE(st$modular)) ", modular" else ""))
   cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions\n\n",
               st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent))
   cat("Calibration parameters (physical units):\n")
-  print_summary_table(x$parameters, digits)
+  print_summary_table(x$parameters)
   cat("\nGaussian-process hyperparameters (standardised scale):\n")
-  print_summary_table(x$hyperparameters, digits)
+  print_summary_table(x$hyperparameters)
+  if (isTRUE(st$modular)) {
+    cat("(emulator rows: stage-1 posterior from the runs alone; fixed at its medians in stage 2)\n")
+  }
   invisible(x)
 }
 
-print_summary_table <- function(s, digits) {
-  out <- s[-1]
-  rownames(out) <- s$variable
-  num <- c("mean", "sd", "q5", "q50", "q95")
-  out[num] <- lapply(out[num], signif, digits = digits)
-  out$rhat <- round(out$rhat, 3)
-  out[c("ess_bulk", "ess_tail")] <- lapply(out[c("ess_bulk", "ess_tail")], round)
-  print(out)
+# Prints a summary table with one row per variable (the row names). Each
+# row's mean, sd and quantiles get the decimals that show two significant
+# digits of its sd (units differ between rows: 0.64, 12.3, 0.00135), without
+# scientific notation; R-hat with 3 decimals, ESS as whole numbers.
+print_summary_table <- function(s) {
+  decimals <- sd_decimals(s$sd)
+  out <- data.frame(row.names = s$variable)
+  for (col in c("mean", "sd", "q5", "q50", "q95")) {
+    out[[col]] <- vapply(seq_along(decimals), function(i) {
+      formatC(s[[col]][i], format = "f", digits = decimals[i])
+    }, character(1))
+  }
+  out$rhat <- formatC(s$rhat, format = "f", digits = 3)
+  out$ess_bulk <- formatC(round(s$ess_bulk), format = "d")
+  out$ess_tail <- formatC(round(s$ess_tail), format = "d")
+  print(out, right = TRUE)
+}
+
+# Decimals that show two significant digits of each sd (at most 10; 3 where
+# the sd is zero or not finite).
+sd_decimals <- function(sd) {
+  d <- 2 - ceiling(log10(sd) + 1e-12)
+  d[!is.finite(d)] <- 3
+  as.integer(pmin(pmax(d, 0), 10))
 }
 
 #' @rdname summary.koh_fit
 #' @export
-print.koh_fit <- function(x, digits = 3, ...) {
-  print(summary(x), digits = digits)
+print.koh_fit <- function(x, ...) {
+  rlang::check_dots_empty()
+  print(summary(x))
   invisible(x)
 }

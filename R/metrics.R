@@ -72,15 +72,16 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #' @param obs Measured outputs at `newdata`.
 #' @param frequency `"monthly"` or `"hourly"`: which Guideline 14 limits apply.
 #' @param ndraws Number of posterior draws to use (all by default).
-#' @return A data frame with one row per data set (`training`, `held-out`):
-#'   `n`, `cvrmse`, `nmbe` (percent) and `calibrated` (logical).
+#' @return A data frame (class `koh_metrics`, printed with 2 decimals) with
+#'   one row per data set (`training`, `held-out`): `n`, `cvrmse`, `nmbe`
+#'   (percent) and `calibrated` (logical).
 #' @family metrics
 #' @export
 #' @examples
 #' calibration_metrics(seb_fit, ndraws = 100)
 calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                                 frequency = c("monthly", "hourly"), ndraws = NULL) {
-  frequency <- match.arg(frequency)
+  frequency <- match_choice(frequency)
   sets <- evaluation_sets(fit, newdata, obs)
   limits <- switch(frequency, monthly = c(15, 5), hourly = c(30, 10))
   rows <- lapply(names(sets), function(set) {
@@ -91,5 +92,16 @@ calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
     data.frame(set = set, n = length(obs), cvrmse = cv, nmbe = nb,
                calibrated = cv <= limits[1] && abs(nb) <= limits[2])
   })
-  do.call(rbind, rows)
+  structure(do.call(rbind, rows), class = c("koh_metrics", "data.frame"))
+}
+
+#' @export
+print.koh_metrics <- function(x, ...) {
+  rlang::check_dots_empty()
+  out <- as.data.frame(unclass(x))
+  for (col in intersect(c("cvrmse", "nmbe"), names(out))) {
+    out[[col]] <- formatC(out[[col]], format = "f", digits = 2)
+  }
+  print(out, row.names = FALSE, right = TRUE)
+  invisible(x)
 }

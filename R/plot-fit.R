@@ -9,7 +9,7 @@
 #' @param type One of `"posteriors"` ([plot_posteriors()]), `"trace"`
 #'   ([plot_trace()]), `"predictions"` ([plot_predictions()]) or
 #'   `"components"` ([plot_components()]).
-#' @param ... Passed to the plotting function.
+#' @param ... Arguments of the plotting function (an unknown one is an error).
 #' @return A ggplot.
 #' @family plots
 #' @export
@@ -17,12 +17,11 @@
 #' plot(seb_fit)
 #' plot(seb_fit, type = "trace")
 plot.koh_fit <- function(x, type = c("posteriors", "trace", "predictions", "components"), ...) {
-  type <- match.arg(type)
-  switch(type,
-         posteriors = plot_posteriors(x, ...),
-         trace = plot_trace(x, ...),
-         predictions = plot_predictions(x, ...),
-         components = plot_components(x, ...))
+  type <- match_choice(type)
+  plotter <- switch(type, posteriors = plot_posteriors, trace = plot_trace,
+                    predictions = plot_predictions, components = plot_components)
+  check_dots_in(list(...), names(formals(plotter))[-1], sprintf("plot_%s()", type))
+  plotter(x, ...)
 }
 
 # Box-plot statistics of each column of a draws matrix: whiskers at the 5 %

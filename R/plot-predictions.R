@@ -50,7 +50,7 @@ plot_predictions_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL
 
 #' The three-panel comparison of the paper's Fig 6
 #'
-#' For each point of the training data (and of held-out data when given),
+#' For each period of the training data (and of held-out data when given),
 #' box plots of the posterior draws of three quantities: the calibrated
 #' prediction `eta + delta` against the measured output, the simulator part
 #' `eta` alone against the measured output, and the discrepancy as a share
@@ -60,7 +60,10 @@ plot_predictions_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL
 #' @param newdata,obs Held-out observable inputs and their measured outputs,
 #'   both or neither.
 #' @return `plot_components()`: a ggplot. `plot_components_data()`: a data
-#'   frame with `set` (`"training"`, `"held-out"`), `point`, `component`,
+#'   frame with `set` (`"training"`, `"held-out"`), `point`, `period` (the
+#'   label of the point on the x axis: its month and year, or date, when the
+#'   data have a period column, see [koh_data()], else its number),
+#'   `component`,
 #'   the box statistics `q5` to `q95`, and `obs` (measured output; `NA` for
 #'   the discrepancy panel).
 #' @family plots
@@ -72,16 +75,16 @@ plot_components <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
   d <- plot_components_data(fit, newdata, obs, ndraws)
   zero <- data.frame(component = factor(component_labels()[3], levels = component_labels()),
                      y = 0)
-  ggplot2::ggplot(d, ggplot2::aes(x = .data$point, group = .data$point)) +
+  ggplot2::ggplot(d, ggplot2::aes(x = .data$period, group = .data$period)) +
     ggplot2::geom_hline(data = zero, ggplot2::aes(yintercept = .data$y), colour = "grey50") +
     geom_quantile_box(ggplot2::aes(), width = 0.6, fill = "#cfe0ef", colour = "#1b6ca8") +
     ggplot2::geom_point(ggplot2::aes(y = .data$obs), colour = "#c0392b", na.rm = TRUE) +
     ggplot2::facet_grid(ggplot2::vars(.data$component), ggplot2::vars(.data$set),
                         scales = "free", space = "free_x") +
-    ggplot2::scale_x_continuous(breaks = function(r) seq(ceiling(r[1]), floor(r[2]))) +
-    ggplot2::labs(x = "point", y = NULL,
+    ggplot2::labs(x = if (is.null(fit$data$names$period)) "point" else "period", y = NULL,
                   caption = "boxes: posterior draws; points: measured output") +
-    ggplot2::theme_bw()
+    ggplot2::theme_bw() +
+    ggplot2::theme(axis.text.x = ggplot2::element_text(angle = 90, vjust = 0.5, hjust = 1))
 }
 
 #' @rdname plot_components
@@ -94,12 +97,14 @@ plot_components_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL)
     draws <- predict_draws(fit, s$x, ndraws = ndraws)
     share <- 100 * sweep(draws$delta, 2, s$obs, "/")
     parts <- list(draws$y, draws$eta, share)
+    period <- period_labels(fit$data, if (set == "training") fit$data$field else newdata)
     do.call(rbind, lapply(seq_along(parts), function(i) {
-      data.frame(set = set, point = seq_along(s$obs), component = labels[i],
+      data.frame(set = set, point = seq_along(s$obs), period = period, component = labels[i],
                  box_stats(parts[[i]]), obs = if (i < 3) s$obs else NA_real_)
     }))
   })
   out <- do.call(rbind, rows)
+  out$period <- factor(out$period, levels = unique(out$period))
   out$component <- factor(out$component, levels = labels)
   out$set <- factor(out$set, levels = names(sets))
   out

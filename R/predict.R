@@ -49,8 +49,9 @@ predict.koh_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"
                             ndraws = NULL, summary = TRUE, noise = FALSE,
                             method = c("conditional", "sampled"),
                             probs = c(0.05, 0.5, 0.95), ...) {
-  type <- match.arg(type)
-  method <- match.arg(method)
+  rlang::check_dots_empty()
+  type <- match_choice(type)
+  method <- match_choice(method)
   if (method == "sampled") {
     draws <- sampled_predictions(object, newdata, type)
     newdata <- object$predict_at

@@ -1,13 +1,17 @@
 #' Priors of the KOH model
 #'
 #' `koh_priors()` collects the priors of a calibration: one prior per
-#' calibration parameter and the hyperpriors of the Gaussian processes. The
-#' defaults are those of Chong and Menberg (2018): flat priors on the
-#' calibration parameters, `rho = exp(-beta / 4) ~ Beta(1, 0.3)` for every
-#' correlation parameter, and Gamma priors (shape, rate) on the precisions
-#' `lambda_eta ~ Gamma(10, 10)`, `lambda_delta ~ Gamma(10, 0.3)` and
-#' `lambda_e ~ Gamma(10, 0.03)`, which encode the ordering
-#' noise < discrepancy < simulator variance on the standardised scale.
+#' calibration parameter, the hyperpriors of the Gaussian processes and the
+#' emulator's mean. The hyperpriors are those of Chong and Menberg (2018):
+#' flat priors on the calibration parameters, `rho = exp(-beta / 4) ~
+#' Beta(1, 0.3)` for every correlation parameter, and Gamma priors (shape,
+#' rate) on the precisions `lambda_eta ~ Gamma(10, 10)`, `lambda_delta ~
+#' Gamma(10, 0.3)` and `lambda_e ~ Gamma(10, 0.03)`, which encode the
+#' ordering noise < discrepancy < simulator variance on the standardised
+#' scale. The emulator has a linear mean by default (Kennedy and O'Hagan
+#' 2001), which covered the truth more often than the paper's zero mean in
+#' `bench/bench-reliability.R`; `emulator_mean = "zero"` gives the paper's
+#' model exactly.
 #'
 #' @param tf A named list of priors for the calibration parameters, each made
 #'   by [prior_normal()] or [prior_uniform()], e.g. from [prior_level()].
@@ -21,6 +25,14 @@
 #'   standardised output scale per unit of the covariate scaled to \[-1, 1\]:
 #'   `1` lets a term move the output by about one standard deviation of the
 #'   simulations.
+#' @param emulator_mean The mean `h(x, t)' b` of the emulator (Kennedy and
+#'   O'Hagan 2001): `"linear"` (a constant plus a linear term in every
+#'   observable input and calibration parameter, on their scaled ranges),
+#'   `"constant"`, or `"zero"`, the paper's zero-mean emulator.
+#' @param mean_sd Standard deviation of the normal(0, sd) prior on each
+#'   coefficient `b` of the emulator mean, on the standardised output scale
+#'   per unit of the scaled \[0, 1\] inputs: `3` lets the mean span a few
+#'   standard deviations of the simulations across an input's range.
 #' @param nugget A small jitter that keeps the emulator's covariance
 #'   positive definite when inputs or runs nearly coincide. It is added to
 #'   each factor of the emulator kernel where rows are equal, the x factor
@@ -37,7 +49,9 @@
 #' koh_priors(tf = list(equipment_power_density = prior_normal(21.9, 0.2)))
 koh_priors <- function(tf = list(), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
                        lambda_eta = c(10, 10), lambda_delta = c(10, 0.3),
-                       lambda_e = c(10, 0.03), gamma_sd = 1, nugget = 1e-6) {
+                       lambda_e = c(10, 0.03), gamma_sd = 1,
+                       emulator_mean = c("linear", "constant", "zero"), mean_sd = 3,
+                       nugget = 1e-6) {
   if (!is.list(tf) || (length(tf) > 0L && (is.null(names(tf)) || any(names(tf) == ""))) ||
       !all(vapply(tf, inherits, logical(1), "bayesbem_prior"))) {
     abort_bayesbem(c("{.arg tf} must be a named list of priors.",
@@ -56,7 +70,11 @@ koh_priors <- function(tf = list(), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
   }
   check_number(nugget, "prior")
   check_number(gamma_sd, "prior", positive = TRUE)
-  structure(c(list(tf = tf), hyper, list(gamma_sd = gamma_sd, nugget = nugget)),
+  emulator_mean <- match_choice(emulator_mean)
+  check_number(mean_sd, "prior", positive = TRUE)
+  structure(c(list(tf = tf), hyper,
+              list(gamma_sd = gamma_sd, emulator_mean = emulator_mean, mean_sd = mean_sd,
+                   nugget = nugget)),
             class = "koh_priors")
 }
 
@@ -103,6 +121,7 @@ format.bayesbem_prior <- function(x, ...) {
 
 #' @export
 print.bayesbem_prior <- function(x, ...) {
+  rlang::check_dots_empty()
   cat("<bayesbem_prior>", format(x), "\n")
   invisible(x)
 }
@@ -125,7 +144,7 @@ print.bayesbem_prior <- function(x, ...) {
 #' prior_level("weak", mu = c(equipment_power_density = 21.9))
 #' koh_priors(tf = prior_level("specific", mu = c(fan_total_efficiency = 0.5)))
 prior_level <- function(level = c("flat", "weak", "specific"), mu = NULL) {
-  level <- match.arg(level)
+  level <- match_choice(level)
   if (level == "flat") {
     return(lapply(stats::setNames(nm = names(mu)), function(i) prior_uniform()))
   }
@@ -140,22 +159,62 @@ prior_level <- function(level = c("flat", "weak", "specific"), mu = NULL) {
 
 #' @export
 print.koh_priors <- function(x, ...) {
+  rlang::check_dots_empty()
   tf <- if (length(x$tf) == 0L) "U(0, 1) for every parameter" else
     paste(paste(names(x$tf), vapply(x$tf, format, character(1)), sep = ": ", collapse = "; "),
           "(others U(0, 1))")
   cat_lines("{.cls koh_priors}",
             "* tf: {tf}",
             "* rho_eta ~ Beta({x$rho_eta[1]}, {x$rho_eta[2]}), rho_delta ~ Beta({x$rho_delta[1]}, {x$rho_delta[2]})",
-            "* lambda_eta ~ Gamma({x$lambda_eta[1]}, {x$lambda_eta[2]}), lambda_delta ~ Gamma({x$lambda_delta[1]}, {x$lambda_delta[2]}), lambda_e ~ Gamma({x$lambda_e[1]}, {x$lambda_e[2]})")
+            "* lambda_eta ~ Gamma({x$lambda_eta[1]}, {x$lambda_eta[2]}), lambda_delta ~ Gamma({x$lambda_delta[1]}, {x$lambda_delta[2]}), lambda_e ~ Gamma({x$lambda_e[1]}, {x$lambda_e[2]})",
+            "* emulator mean: {emulator_mean_label(x)}")
   invisible(x)
 }
 
+# The emulator mean of a set of priors, in words (fits made before it
+# existed have the paper's zero mean).
+emulator_mean_label <- function(priors) {
+  switch(emulator_mean_of(priors),
+         zero = "zero (the paper's)",
+         constant = sprintf("constant, b ~ N(0, %s)", priors$mean_sd),
+         linear = sprintf("linear in x and t, b ~ N(0, %s)", priors$mean_sd))
+}
+
+emulator_mean_of <- function(priors) priors$emulator_mean %||% "zero"
+
+# Which columns of [1, x, t] the emulator mean uses: a (1 + p + q) x n_b
+# selection matrix (koh_prior_data.stan's b_select).
+mean_selection <- function(priors, p, q) {
+  all <- diag(1 + p + q)
+  switch(emulator_mean_of(priors), zero = all[, 0, drop = FALSE],
+         constant = all[, 1, drop = FALSE], linear = all)
+}
+
 # The data block of inst/stan/koh.stan (structure "dense") or koh_grid.stan
-# (structure "grid") for given data and priors; checks that every tf prior
-# names a parameter and that its mean lies in the design range. `x_pred`:
-# scaled inputs whose outputs Stan samples (the paper's Appendix D; dense only).
+# (structure "grid") for given data and priors. `x_pred`: scaled inputs
+# whose outputs Stan samples (the paper's Appendix D; dense only).
 koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
                           call = rlang::caller_env()) {
+  prior_data <- koh_prior_data(data, priors, call = call)
+  if (structure == "grid") {
+    grid <- data$grid
+    return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = data$q, y = data$y,
+                  eta = matrix(data$eta[grid$index], grid$n_x), x_grid = grid$x,
+                  tc = grid$design),
+             prior_data))
+  }
+  c(list(n = data$n, m = data$m, p = data$p, q = data$q,
+         y = data$y, eta = data$eta, xf = data$xf, xc = data$xc, tc = data$tc),
+    prior_data,
+    list(n_pred = NROW(x_pred),
+         x_pred = if (is.null(x_pred)) matrix(0, 0, data$p) else x_pred))
+}
+
+# The part of every program's data block that koh_prior_data.stan declares:
+# the tf priors on the [0, 1] scale (checked: each names a parameter, its
+# mean in the design range), the hyperpriors, the discrepancy terms and the
+# emulator mean.
+koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
   t_names <- data$names$t
   unknown <- setdiff(names(priors$tf), t_names)
   if (length(unknown) > 0L) {
@@ -181,7 +240,7 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
     mu[k] <- (pr$mu - lo) / (hi - lo)
     sd[k] <- pr$sd
   }
-  prior_data <- list(
+  list(
     tf_is_normal = as.array(is_normal), tf_mu = as.array(mu), tf_sd = as.array(sd),
     rho_eta_a = priors$rho_eta[1], rho_eta_b = priors$rho_eta[2],
     rho_delta_a = priors$rho_delta[1], rho_delta_b = priors$rho_delta[2],
@@ -191,20 +250,11 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
     nugget = priors$nugget,
     n_h = ncol(discrepancy_design(data)),
     h = discrepancy_design(data),
-    gamma_sd = priors$gamma_sd %||% 1
+    gamma_sd = priors$gamma_sd %||% 1,
+    n_b = ncol(mean_selection(priors, data$p, q)),
+    b_select = mean_selection(priors, data$p, q),
+    b_sd = priors$mean_sd %||% 1
   )
-  if (structure == "grid") {
-    grid <- data$grid
-    return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = q, y = data$y,
-                  eta = matrix(data$eta[grid$index], grid$n_x), x_grid = grid$x,
-                  tc = grid$design),
-             prior_data))
-  }
-  c(list(n = data$n, m = data$m, p = data$p, q = q,
-         y = data$y, eta = data$eta, xf = data$xf, xc = data$xc, tc = data$tc),
-    prior_data,
-    list(n_pred = NROW(x_pred),
-         x_pred = if (is.null(x_pred)) matrix(0, 0, data$p) else x_pred))
 }
 
 check_priors <- function(priors, call = rlang::caller_env()) {

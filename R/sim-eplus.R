@@ -64,7 +64,8 @@ eplus_simulator <- function(idf = system.file("extdata", "seb_25_2.idf.gz", pack
   }
   name <- sprintf("EnergyPlus %s: %s (%s), %s (kWh)", version, basename(idf),
                   substr(rlang::hash(model), 1, 8), meter)
-  simulator(fun, x, parameters, name = name)
+  simulator(fun, x, parameters, name = name,
+            key = list(model, unname(tools::md5sum(weather)), map, meter, version))
 }
 
 #' Find EnergyPlus

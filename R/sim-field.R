@@ -60,3 +60,39 @@ simulate_field <- function(simulator, truth, covariates = NULL, effect = NULL, n
   structure(data.frame(y = simulated + hidden + noise, inputs, row.names = NULL),
             truth = params, simulated = simulated, effect = hidden)
 }
+
+# A synthetic calibration problem of the reliability benchmark
+# (bench/bench-reliability.R) and its tests: the embedded model on n periods
+# (months of 2012, 2013 and a perturbed copy of 2013 for n <= 36; n days of
+# 2013, evenly spaced, above), the paper's three calibration parameters with
+# the truth drawn within the middle 80 % of their ranges, noise 2 % of the
+# mean output, and a maximin LHS design of mt runs at every period; `k`
+# seeds the draw. Returns the field table, the runs and the truth.
+synthetic_problem <- function(n, mt, k) {
+  sim <- bem_simulator(synthetic_weather(n))
+  names <- c("fan_total_efficiency", "equipment_power_density", "infiltration_per_exterior_area")
+  params <- sim$parameters[sim$parameters$parameter %in% names, ]
+  truth <- with_seed(1000 + k, {
+    u <- stats::runif(nrow(params), 0.1, 0.9)
+    stats::setNames(as.list(params$min + u * (params$max - params$min)), params$parameter)
+  })
+  clean <- simulate_field(sim, truth)
+  list(field = simulate_field(sim, truth, noise_sd = 0.02 * mean(clean$y), seed = 2000 + k),
+       runs = simulate_design(sim, design_lhs(params, n = mt, seed = 3000 + k)),
+       truth = truth)
+}
+
+synthetic_weather <- function(n) {
+  epw <- function(year) system.file("extdata", sprintf("%d_AMY.epw.gz", year), package = "bayesbem")
+  if (n > 36) {
+    daily <- epw_daily(epw(2013))
+    return(daily[unique(round(seq(1, nrow(daily), length.out = n))), ])
+  }
+  year <- epw_monthly(epw(2013))
+  perturbed <- with_seed(7, within(year, {
+    temp <- temp + stats::rnorm(12, sd = 1.5)
+    rh <- rh + stats::rnorm(12, sd = 4)
+    dni <- dni * stats::runif(12, 0.9, 1.1)
+  }))
+  utils::head(rbind(epw_monthly(epw(2012)), year, perturbed), n)
+}

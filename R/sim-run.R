@@ -13,8 +13,10 @@
 #' row with its error message in a warning of class
 #' `bayesbem_warning_simulation` and in the attribute `failed` of the
 #' result; the other runs are kept. With a `cache_dir`, every successful
-#' run is saved there, so calling again with the same arguments only repeats
-#' the failed runs.
+#' run is saved there under a hash of everything that determines its output
+#' (the simulator's key, see [simulator()], its inputs and the run's
+#' parameter values), so calling again with the same arguments only repeats
+#' the failed runs, and a changed simulator never gets another's results.
 #'
 #' @param simulator A `bayesbem_simulator` (see [simulator()],
 #'   [bem_simulator()]).
@@ -39,13 +41,14 @@ simulate_design <- function(simulator, design, cache_dir = NULL) {
   }
   settings <- design_settings(simulator, design)
   if (!is.null(cache_dir)) dir.create(cache_dir, showWarnings = FALSE, recursive = TRUE)
+  key <- simulator_key(simulator)
   progress <- progressr::progressor(along = settings)
   # future.seed = TRUE leaves the session on L'Ecuyer-CMRG: keep the caller's
   # generator as it was
   old_seed <- saved_seed()
   on.exit(restore_seed(old_seed), add = TRUE)
   runs <- future.apply::future_lapply(settings, function(params) {
-    result <- run_cached(simulator, params, cache_dir)
+    result <- run_cached(simulator, key, params, cache_dir)
     progress()
     result
   }, future.seed = TRUE)
@@ -70,10 +73,11 @@ simulate_design <- function(simulator, design, cache_dir = NULL) {
   out
 }
 
-# One run, from the cache when it holds it; errors are returned, not thrown.
-run_cached <- function(simulator, params, cache_dir) {
+# One run, from the cache when it holds it (under a hash of the simulator's
+# key, its inputs and the parameters); errors are returned, not thrown.
+run_cached <- function(simulator, key, params, cache_dir) {
   path <- if (!is.null(cache_dir)) {
-    file.path(cache_dir, paste0(rlang::hash(list(simulator$name, simulator$x, params)), ".rds"))
+    file.path(cache_dir, paste0(rlang::hash(list(key, simulator$x, params)), ".rds"))
   }
   if (!is.null(path) && file.exists(path)) {
     return(list(value = readRDS(path), error = NULL))

@@ -13,6 +13,11 @@
 #'   parameter `fun` takes, with its initial value and range. Parameters a
 #'   design does not vary are held at their initial values.
 #' @param name A short description, for printing.
+#' @param key Anything else the output depends on, for the cache of
+#'   [simulate_design()]: runs are cached under a hash of this key, the
+#'   code of `fun`, the values (at the time of the runs) of the variables
+#'   `fun` uses from outside (not environments), the inputs `x` and the
+#'   parameter values. Give e.g. the contents of files `fun` reads.
 #' @return An object of class `bayesbem_simulator`.
 #' @family simulation
 #' @export
@@ -23,18 +28,35 @@
 #'                                          min = c(0, -5), max = c(2, 5)))
 #' lin
 #' simulate_design(lin, data.frame(a = c(0.5, 1.5)))
-simulator <- function(fun, x, parameters, name = "custom simulator") {
+simulator <- function(fun, x, parameters, name = "custom simulator", key = NULL) {
   if (!is.function(fun)) {
     abort_bayesbem("{.arg fun} must be a function {.code fun(params, x)}.", "argument")
   }
   x <- as_numeric_table(x)
   check_numeric_complete(x, names(x), "x")
-  structure(list(fun = fun, x = x, parameters = check_parameter_table(parameters), name = name),
+  structure(list(fun = fun, x = x, parameters = check_parameter_table(parameters), name = name,
+                 key = key),
             class = "bayesbem_simulator")
+}
+
+# What determines a simulator's output besides the inputs and parameters:
+# its `key`, its function's code (as text: source references hold file
+# times) and the current values of the variables that code uses but does not
+# define (found by codetools), wherever they live. Functions among those
+# values count by their code; environments (mutable state such as counters)
+# are left out.
+simulator_key <- function(sim) {
+  fun <- sim$fun
+  used <- codetools::findGlobals(fun, merge = FALSE)$variables
+  values <- mget(used, envir = environment(fun), inherits = TRUE,
+                 ifnotfound = rep(list(NULL), length(used)))
+  values <- Filter(Negate(is.environment), values)
+  list(sim$key, deparse(fun), lapply(values, function(v) if (is.function(v)) deparse(v) else v))
 }
 
 #' @export
 print.bayesbem_simulator <- function(x, ...) {
+  rlang::check_dots_empty()
   cat_lines("{.cls bayesbem_simulator}: {x$name}",
             "* {nrow(x$x)} period{?s}; observable inputs {.field {names(x$x)}}",
             "* {nrow(x$parameters)} parameter{?s}: {.field {x$parameters$parameter}}")
@@ -63,11 +85,12 @@ print.bayesbem_simulator <- function(x, ...) {
 #' simulate_design(sim, data.frame(equipment_power_density = c(10, 20)))
 bem_simulator <- function(weather, parameters = bem_parameters(), building = bem_building(),
                           output = c("electricity", "gas")) {
-  output <- match.arg(output)
+  output <- match_choice(output)
   if (is.character(weather)) weather <- epw_monthly(weather)
   x <- data.frame(temp = weather$temp, rh = weather$rh, solar = weather$dni)
   fun <- function(params, x) bem_monthly(params, weather, building)[[output]]
-  simulator(fun, x, parameters, name = paste("embedded monthly building model,", output, "(kWh)"))
+  simulator(fun, x, parameters, name = paste("embedded monthly building model,", output, "(kWh)"),
+            key = list(weather, building, output))
 }
 
 check_parameter_table <- function(parameters, arg = rlang::caller_arg(parameters),

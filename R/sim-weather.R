@@ -1,27 +1,33 @@
-#' Monthly weather from an EnergyPlus weather (EPW) file
+#' Weather by month, week or day from an EnergyPlus weather (EPW) file
 #'
 #' Reads the hourly records of an EPW file (plain or gzip-compressed) and
-#' returns monthly means of the quantities that drive a monthly building
-#' model, plus heating and cooling degree-days. Months are taken from the
-#' records' month field, in the order they appear, so any year works: a leap
-#' year's 29 February counts in February, and typical-year files (whose
-#' months come from different years) are handled. Values equal to the EPW
-#' format's missing-value codes (99.9 for temperatures, 999 for relative
-#' humidity, 9999 for radiation) are left out of the means; a month with no
-#' valid value of a quantity is an error.
+#' returns, for each period, the means of the quantities that drive a
+#' building model, plus heating and cooling degree-days. `epw_weather()`
+#' summarises by `"month"`, `"week"` (seven consecutive days from the first
+#' record) or `"day"`; `epw_monthly()` and `epw_daily()` are its monthly and
+#' daily forms. Periods follow the records in the order they appear, so any
+#' year works: a leap year's 29 February counts in February, and
+#' typical-year files (whose months come from different years) are handled.
+#' Values equal to the EPW format's missing-value codes (99.9 for
+#' temperatures, 999 for relative humidity, 9999 for radiation) are left out
+#' of the means; a period with no valid value of a quantity is an error.
 #'
 #' The monthly means of dry-bulb temperature and relative humidity of the
 #' shipped 2013 weather file are exactly the observable inputs `temp` and
-#' `rh` of [seb_field].
+#' `rh` of [seb_field]. Daily tables drive [bem_simulator()] as monthly ones
+#' do (each row is a period of `hours` hours).
 #'
 #' @param epw_path Path to an `.epw` or `.epw.gz` file.
+#' @param by `"month"`, `"week"` or `"day"`.
 #' @param base_heating,base_cooling Base temperatures (degrees C) of the
 #'   heating and cooling degree-days, computed from daily mean temperatures.
-#' @return A data frame with one row per month: `month` (1-12), `days`,
-#'   `hours`, `temp` (mean dry-bulb temperature, degrees C), `rh` (mean
-#'   relative humidity, percent), `dni` (mean direct normal radiation, W/m2),
-#'   `dhi` (mean diffuse horizontal radiation, W/m2), `ghi` (mean global
-#'   horizontal radiation, W/m2), `hdd` and `cdd` (degree-days, K day).
+#' @return A data frame with one row per period: `date` (its first day, a
+#'   `Date`: the year is the records' own), `month` (1-12, of the first
+#'   day), `days`, `hours`, `temp` (mean dry-bulb temperature, degrees C),
+#'   `rh` (mean relative humidity, percent), `dni` (mean direct normal
+#'   radiation, W/m2), `dhi` (mean diffuse horizontal radiation, W/m2),
+#'   `ghi` (mean global horizontal radiation, W/m2), `hdd` and `cdd`
+#'   (degree-days, K day).
 #' @family simulation
 #' @export
 #' @examples
@@ -29,35 +35,57 @@
 #' w <- epw_monthly(epw)
 #' w
 #' all.equal(w$temp, seb_field$temp)
-epw_monthly <- function(epw_path, base_heating = 18.3, base_cooling = 18.3) {
+#' head(epw_daily(epw))
+#' head(epw_weather(epw, by = "week"))
+epw_weather <- function(epw_path, by = c("month", "week", "day"), base_heating = 18.3,
+                        base_cooling = 18.3) {
+  by <- match_choice(by)
+  check_number(base_heating, "argument")
+  check_number(base_cooling, "argument")
   hourly <- read_epw_hourly(epw_path)
-  month <- factor(hourly$month, levels = unique(hourly$month))
-  mean_by_month <- function(v) vapply(split(v, month), mean, numeric(1), na.rm = TRUE)
-  day_key <- paste(hourly$month, hourly$day)
-  daily <- data.frame(month = tapply(hourly$month, day_key, `[`, 1),
-                      temp = tapply(hourly$temp, day_key, mean, na.rm = TRUE))
-  daily_month <- factor(daily$month, levels = levels(month))
+  # days and months in the order of the records: a new one where the field changes
+  new_run <- function(v) cumsum(c(TRUE, v[-1] != v[-length(v)]))
+  day <- new_run(hourly$month * 100 + hourly$day)
+  period <- switch(by, month = new_run(hourly$month), week = (day - 1L) %/% 7L + 1L, day = day)
+  daily_temp <- tapply(hourly$temp, day, mean, na.rm = TRUE)
+  day_period <- tapply(period, day, `[`, 1)
+  first <- !duplicated(period)
+  mean_by <- function(v) as.vector(tapply(v, period, mean, na.rm = TRUE))
   out <- data.frame(
-    month = as.integer(levels(month)),
-    days = as.vector(table(daily_month)),
-    hours = as.vector(table(month)),
-    temp = mean_by_month(hourly$temp),
-    rh = mean_by_month(hourly$rh),
-    dni = mean_by_month(hourly$dni),
-    dhi = mean_by_month(hourly$dhi),
-    ghi = mean_by_month(hourly$ghi),
-    hdd = as.vector(tapply(pmax(base_heating - daily$temp, 0), daily_month, sum)),
-    cdd = as.vector(tapply(pmax(daily$temp - base_cooling, 0), daily_month, sum)),
+    date = as.Date(sprintf("%04d-%02d-%02d", hourly$year[first], hourly$month[first],
+                           hourly$day[first])),
+    month = hourly$month[first],
+    days = as.vector(table(day_period)),
+    hours = as.vector(table(period)),
+    temp = mean_by(hourly$temp),
+    rh = mean_by(hourly$rh),
+    dni = mean_by(hourly$dni),
+    dhi = mean_by(hourly$dhi),
+    ghi = mean_by(hourly$ghi),
+    hdd = as.vector(tapply(pmax(base_heating - daily_temp, 0), day_period, sum)),
+    cdd = as.vector(tapply(pmax(daily_temp - base_cooling, 0), day_period, sum)),
     row.names = NULL
   )
   empty <- vapply(out[c("temp", "rh", "dni", "dhi", "ghi")], function(v) any(!is.finite(v)),
                   logical(1))
   if (any(empty)) {
-    abort_bayesbem(c("{.file {epw_path}} has a month without any valid {.field {names(empty)[empty]}} value.",
+    abort_bayesbem(c("{.file {epw_path}} has a {by} without any valid {.field {names(empty)[empty]}} value.",
                      i = "Fill the missing records (EPW missing codes) before using the file."),
                    "weather")
   }
   out
+}
+
+#' @rdname epw_weather
+#' @export
+epw_monthly <- function(epw_path, base_heating = 18.3, base_cooling = 18.3) {
+  epw_weather(epw_path, "month", base_heating = base_heating, base_cooling = base_cooling)
+}
+
+#' @rdname epw_weather
+#' @export
+epw_daily <- function(epw_path, base_heating = 18.3, base_cooling = 18.3) {
+  epw_weather(epw_path, "day", base_heating = base_heating, base_cooling = base_cooling)
 }
 
 # The hourly records of an EPW file with missing-value codes set to NA.
@@ -85,9 +113,9 @@ read_epw_hourly <- function(epw_path, call = rlang::caller_env()) {
     v[!is.na(v) & v >= missing_code] <- NA_real_
     v
   }
-  # EPW fields: 2 month, 3 day, 7 dry bulb, 9 relative humidity,
+  # EPW fields: 1 year, 2 month, 3 day, 7 dry bulb, 9 relative humidity,
   # 14 global horizontal, 15 direct normal, 16 diffuse horizontal radiation
-  data.frame(month = as.integer(raw[[2]]), day = as.integer(raw[[3]]),
+  data.frame(year = as.integer(raw[[1]]), month = as.integer(raw[[2]]), day = as.integer(raw[[3]]),
              temp = field(7, 99.9), rh = field(9, 999),
              ghi = field(14, 9999), dni = field(15, 9999), dhi = field(16, 9999))
 }

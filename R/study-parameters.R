@@ -63,14 +63,14 @@ study_parameters <- function(field, sim = NULL, ranking = NULL, k = 2:6, n_runs 
       params <- sim$parameters[match(ranking[seq_len(kk)], sim$parameters$parameter), ]
       simulate_design(sim, design_lhs(params, n = n_runs, seed = seed))
     })
-    if (inherits(field, "koh_data")) field <- field$field[c(field$names$y, field$names$x)]
+    if (inherits(field, "koh_data")) field <- field_table(field)
     datasets <- lapply(tables, function(runs) koh_data(field, runs))
   } else {
     data <- as_koh_data(field, sim)
     ranking <- study_ranking(ranking, data$names$t, k)
     cols <- data$names
     datasets <- lapply(k, function(kk) {
-      koh_data(data$field[c(cols$y, cols$x)],
+      koh_data(field_table(data),
                data$sim[c(cols$eta, cols$x_sim, ranking[seq_len(kk)])])
     })
   }
@@ -116,6 +116,7 @@ study_ranking <- function(ranking, available, k, call = rlang::caller_env()) {
 
 #' @export
 print.koh_parameter_study <- function(x, digits = 3, ...) {
+  rlang::check_dots_empty()
   print_study(x, "k", "{.cls koh_parameter_study}: top k = {x$k} of {.field {x$ranking}}", digits)
 }
 
@@ -160,4 +161,7 @@ plot_parameter_study_data <- function(x) {
 
 #' @rdname plot_parameter_study
 #' @export
-plot.koh_parameter_study <- function(x, ...) plot_parameter_study(x)
+plot.koh_parameter_study <- function(x, ...) {
+  rlang::check_dots_empty()
+  plot_parameter_study(x)
+}

@@ -90,6 +90,7 @@ prior_study_densities <- function(fits) {
 
 #' @export
 print.koh_prior_study <- function(x, digits = 3, ...) {
+  rlang::check_dots_empty()
   print_study(x, "level",
               "{.cls koh_prior_study}: {length(x$levels)} prior level{?s} ({.val {x$levels}})", digits)
 }
@@ -136,7 +137,10 @@ plot_prior_study_data <- function(x) {
 
 #' @rdname plot_prior_study
 #' @export
-plot.koh_prior_study <- function(x, ...) plot_prior_study(x)
+plot.koh_prior_study <- function(x, ...) {
+  rlang::check_dots_empty()
+  plot_prior_study(x)
+}
 
 check_study <- function(x, class, arg = rlang::caller_arg(x), call = rlang::caller_env()) {
   if (!inherits(x, class)) {

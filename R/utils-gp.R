@@ -33,16 +33,19 @@ pair_geometry <- function(a, b) {
 # output matrix `E` (grid input by run).
 gp_geometry <- function(data, x_new = NULL, structure = "dense") {
   g <- list(structure = structure, n = data$n, m = data$m, p = data$p, y = data$y,
-            h = discrepancy_design(data), ff = pair_geometry(data$xf, data$xf))
+            h = discrepancy_design(data), ff = pair_geometry(data$xf, data$xf),
+            xf = data$xf, x_new = x_new)
   if (structure == "grid") {
     grid <- data$grid
     g$tc <- grid$design
     g$E <- matrix(data$eta[grid$index], grid$n_x)
+    g$x_grid <- grid$x
     g$tt <- pair_geometry(g$tc, g$tc)
     g$xx <- pair_geometry(grid$x, grid$x)
     if (!is.null(x_new)) g$sx <- pair_geometry(x_new, grid$x)
   } else {
     g$tc <- data$tc
+    g$xc <- data$xc
     g$eta <- data$eta
     g$fc <- pair_geometry(data$xf, data$xc)
     g$cc <- pair_geometry(data$xc, data$xc)
@@ -65,11 +68,13 @@ draw_parameters <- function(fit, ndraws = NULL) {
   beta_delta <- get("beta_delta")
   lambda <- cbind(get("lambda_eta"), get("lambda_delta"), get("lambda_e"))
   gamma <- if (length(fit$data$covariates) > 0L) get("gamma") else matrix(0, nrow(tf), 0)
+  select <- mean_selection(fit$priors, fit$data$p, fit$data$q)
+  coef <- if (ncol(select) > 0L) get("b") %*% t(select) else matrix(0, nrow(tf), nrow(select))
   idx <- draw_subset(nrow(tf), ndraws)
   lapply(idx, function(i) {
     list(tf = tf[i, ], beta_eta = beta_eta[i, ], beta_delta = beta_delta[i, ],
          lambda_eta = lambda[i, 1], lambda_delta = lambda[i, 2], lambda_e = lambda[i, 3],
-         gamma = gamma[i, ], nugget = fit$priors$nugget)
+         gamma = gamma[i, ], coef = coef[i, ], nugget = fit$priors$nugget)
   })
 }
 
@@ -130,11 +135,44 @@ field_y <- function(g, par) {
   if (ncol(g$h) == 0L) g$y else g$y - drop(g$h %*% par$gamma)
 }
 
+# The emulator mean h(x, t)' b at rows x (scaled), all at the parameters t
+# (one row) or each at its own (a matrix): koh_functions.stan's
+# emulator_mean().
+emulator_mean <- function(x, t, coef) {
+  tc <- if (is.matrix(t)) t else matrix(t, nrow(x), length(t), byrow = TRUE)
+  drop(coef[1] + x %*% coef[1 + seq_len(ncol(x))] + tc %*% coef[-seq_len(1 + ncol(x))])
+}
+
+# The geometry with the draw's emulator mean taken off the data (field
+# outputs at tf, simulation outputs at their runs), which is what the
+# Gaussian processes model; `mean_new`, the mean at the new rows, is added
+# back to the emulator's conditional mean there.
+residual_geometry <- function(g, par) {
+  g$mean_new <- 0
+  if (all(par$coef == 0)) {
+    return(g)
+  }
+  coef_x <- par$coef[1 + seq_len(g$p)]
+  coef_t <- par$coef[-seq_len(1 + g$p)]
+  g$y <- g$y - emulator_mean(g$xf, par$tf, par$coef)
+  if (g$structure == "grid") {
+    g$E <- g$E - outer(par$coef[1] + drop(g$x_grid %*% coef_x), drop(g$tc %*% coef_t), "+")
+  } else {
+    g$eta <- g$eta - emulator_mean(g$xc, g$tc, par$coef)
+  }
+  if (!is.null(g$x_new)) g$mean_new <- emulator_mean(g$x_new, par$tf, par$coef)
+  g
+}
+
 # Joint conditional distribution of (eta(x_new, tf), delta(x_new)) given the
 # data, for one draw: mean and covariance; delta is the Gaussian-process
-# part of the discrepancy.
+# part of the discrepancy, eta includes the emulator mean.
 koh_conditional <- function(g, par) {
-  if (g$structure == "grid") koh_conditional_grid(g, par) else koh_conditional_dense(g, par)
+  g <- residual_geometry(g, par)
+  cond <- if (g$structure == "grid") koh_conditional_grid(g, par) else koh_conditional_dense(g, par)
+  eta_rows <- seq_len(nrow(g$ss$eq))
+  cond$mean[eta_rows] <- cond$mean[eta_rows] + g$mean_new
+  cond
 }
 
 # Any design: mean S21 S11^-1 z and covariance S22 - S21 S11^-1 S12, with one
@@ -212,6 +250,7 @@ koh_conditional_grid <- function(g, par) {
 # draw: log p(y_i | y_-i, eta), from the precision Q of y given the runs:
 # y_i | y_-i ~ N(y_i - (Q r)_i / Q_ii, 1 / Q_ii) with r = y - mean.
 loo_log_density <- function(g, par) {
+  g <- residual_geometry(g, par)
   fm <- field_given_runs(g, par)
   q <- chol2inv(chol(fm$cov))
   qr <- drop(q %*% (field_y(g, par) - fm$mean))
@@ -220,8 +259,25 @@ loo_log_density <- function(g, par) {
 }
 
 # One draw from N(mean, cov) for a covariance that may be singular to
-# rounding: eigenvalues below zero are rounding error and are set to zero.
+# rounding, through its Cholesky factor with the smallest jitter on the
+# diagonal (from 1e-12 of the largest variance up) that makes it positive
+# definite. Unlike eigenvectors, whose signs LAPACK builds choose
+# differently, the factor is a continuous function of `cov`, so a seed gives
+# the same draws on every machine (to rounding).
 rmvnorm_psd <- function(mean, cov) {
-  e <- eigen(cov, symmetric = TRUE)
-  mean + drop(e$vectors %*% (sqrt(pmax(e$values, 0)) * stats::rnorm(length(mean))))
+  drop(mean + crossprod(jittered_chol(cov), stats::rnorm(length(mean))))
+}
+
+jittered_chol <- function(cov) {
+  scale <- max(diag(cov), .Machine$double.xmin)
+  for (jitter in c(0, 10^seq(-12, -6))) {
+    r <- suppressWarnings(tryCatch(chol(cov + diag(jitter * scale, nrow(cov))),
+                                   error = function(e) NULL))
+    if (!is.null(r)) {
+      return(r)
+    }
+  }
+  abort_bayesbem(c("A predictive covariance is not positive semi-definite.",
+                   i = "Its smallest eigenvalue is {signif(min(eigen(cov, TRUE, TRUE)$values), 3)} (largest variance {signif(scale, 3)})."),
+                 "numerical")
 }

@@ -7,6 +7,8 @@ stopifnot(nrow(field) == 12L, ncol(field) == 4L, nrow(sim) == 120L, ncol(sim) ==
 
 x_names <- c("temp", "rh", "solar")
 seb_field <- stats::setNames(field, c("y", x_names))
+# the field months are January to December 2013 (the 2013 weather file)
+seb_field$month <- as.Date(sprintf("2013-%02d-01", 1:12))
 seb_sim <- stats::setNames(sim, c("eta", x_names, "fan_total_efficiency",
                                   "equipment_power_density",
                                   "infiltration_per_exterior_area"))

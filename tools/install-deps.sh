@@ -12,7 +12,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   r-cran-rstan r-cran-rstantools r-cran-stanheaders r-cran-bh libboost-dev \
   r-cran-rcppeigen r-cran-rcppparallel r-cran-rcpp \
   r-cran-posterior r-cran-bayesplot r-cran-loo r-cran-ggplot2 \
-  r-cran-checkmate r-cran-cli r-cran-rlang r-cran-withr \
+  r-cran-checkmate r-cran-cli r-cran-codetools r-cran-rlang r-cran-withr \
   r-cran-lhs r-cran-future r-cran-future.apply r-cran-progressr \
   r-cran-testthat r-cran-roxygen2 r-cran-knitr r-cran-rmarkdown r-cran-vdiffr \
   r-cran-rcpparmadillo r-cran-proxy r-cran-clue r-cran-ggrepel r-cran-rspectra \

@@ -2,6 +2,8 @@
 # "N passed, N failed, N skipped" (expectations); exits 1 on any failure.
 # Usage, from the package root: Rscript tools/run-tests.R
 Sys.setenv(NOT_CRAN = "true")
+# report every failure (the progress reporter stops after 10 by default)
+options(testthat.progress.max_fails = Inf)
 # EnergyPlus tests use the project's shared build when no other is configured
 shared_eplus <- file.path("..", "shared", "energyplus")
 if (!nzchar(Sys.getenv("BAYESBEM_EPLUS")) && dir.exists(shared_eplus)) {

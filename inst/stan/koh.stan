@@ -44,11 +44,16 @@ transformed parameters {
 }
 model {
   vector[n_all + m] z = append_row(append_row(y, y_pred), eta);
+  vector[1 + p + q] coef = mean_coefficients(b_select, b);
+  // emulator mean h(x, t)' b of every row (field rows at tf), plus the
+  // discrepancy terms on the observed field rows
+  vector[n_all + m] mu = append_row(emulator_mean(xf_all, rep_matrix(tf', n_all), coef),
+                                    emulator_mean(xc, tc, coef))
+                         + append_row(discrepancy_terms(h, gamma), zero);
   matrix[n_all + m, n_all + m] sigma_z = koh_cov(nd2_ff, nd2_fc, nd2_cc, nd2_tt,
                                                  eq_ff, eq_fc, eq_cc, eq_tt, tc, tf',
                                                  beta_eta, beta_delta, lambda_eta,
                                                  lambda_delta, lambda_e, nugget);
 #include /include/koh_priors.stan
-  // the discrepancy terms shift the observed field rows only
-  target += multi_normal_cholesky_lpdf(z | append_row(discrepancy_terms(h, gamma), zero), cholesky_decompose(sigma_z));
+  target += multi_normal_cholesky_lpdf(z | mu, cholesky_decompose(sigma_z));
 }

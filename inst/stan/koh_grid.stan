@@ -33,10 +33,15 @@ transformed parameters {
 #include /include/koh_transformed_parameters.stan
 }
 model {
+  vector[1 + p + q] coef = mean_coefficients(b_select, b);
   matrix[n_x, n_x] Kx = jittered_cor(nd2_xx, eq_xx, head(beta_eta, p), nugget);
   matrix[mt, mt] Kt = jittered_cor(nd2_tt, eq_tt, tail(beta_eta, q), nugget);
   vector[mt] k0 = tf_cor(tf', tc, tail(beta_eta, q));
   matrix[n, n] sigma_delta = sq_exp_cov(nd2_ff, beta_delta, lambda_delta, n, n);
 #include /include/koh_priors.stan
-  target += koh_grid_lpdf(y - discrepancy_terms(h, gamma) | eta, Kx, Kt, k0, sigma_delta, lambda_eta, lambda_e, nugget);
+  // the Gaussian processes model what the emulator mean and the discrepancy
+  // terms leave: eta - h(x, t)' b at the runs, y - h(xf, tf)' b - h' gamma
+  target += koh_grid_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef) - discrepancy_terms(h, gamma)
+                          | eta - grid_mean(x_grid, tc, coef), Kx, Kt, k0, sigma_delta, lambda_eta,
+                          lambda_e, nugget);
 }

@@ -1,3 +1,6 @@
+# Fits in tests draw no progress bar (it would interleave with the reporter).
+options(bayesbem.progress = FALSE)
+
 # One small seeded fit of the case study, made once per test run and shared
 # by every test that needs a fitted model. Three field months are also
 # predicted inside Stan (the paper's Appendix D) to compare the two routes.

@@ -27,8 +27,12 @@ reference_log_density <- function(sd, pars) {
         (i == j) / pars$lambda_e
     }
   }
+  # the emulator mean: coefficients b on the columns of [1, x, t] that
+  # b_select picks, at every row (field rows at tf)
+  coef <- reference_coef(sd, pars)
+  emulator_mean <- vapply(seq_len(N), function(i) sum(c(1, u[i, ]) * coef), numeric(1))
   # the discrepancy terms h' gamma shift the observed field rows
-  shift <- c(drop(sd$h %*% pars$gamma), rep(0, N - nrow(sd$h)))
+  shift <- emulator_mean + c(drop(sd$h %*% pars$gamma), rep(0, N - nrow(sd$h)))
   z <- c(sd$y, sd$eta) - shift
   r <- chol(sigma)
   ll <- -0.5 * N * log(2 * pi) - sum(log(diag(r))) - 0.5 * sum(backsolve(r, z, transpose = TRUE)^2)
@@ -45,7 +49,8 @@ reference_log_density <- function(sd, pars) {
     stats::dgamma(pars$lambda_eta, sd$lambda_eta_shape, sd$lambda_eta_rate, log = TRUE) +
     stats::dgamma(pars$lambda_delta, sd$lambda_delta_shape, sd$lambda_delta_rate, log = TRUE) +
     stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE) +
-    sum(stats::dnorm(pars$gamma, 0, sd$gamma_sd, log = TRUE))
+    sum(stats::dnorm(pars$gamma, 0, sd$gamma_sd, log = TRUE)) +
+    sum(stats::dnorm(pars$b, 0, sd$b_sd, log = TRUE))
 }
 
 # Emulator covariance of rows u and v = (x, t): the product kernel with the
@@ -66,7 +71,8 @@ random_koh_pars <- function(sd) {
        lambda_eta = stats::rgamma(1, 10, 10),
        lambda_delta = stats::rgamma(1, 10, 0.3),
        lambda_e = stats::rgamma(1, 10, 0.03),
-       gamma = as.array(stats::rnorm(sd$n_h)))
+       gamma = as.array(stats::rnorm(sd$n_h)),
+       b = as.array(stats::rnorm(sd$n_b)))
 }
 
 # The compiled KOH model ("koh" or "koh_grid") with data `sd`, without
@@ -117,14 +123,36 @@ reference_conditional <- function(sd, pars, x_new) {
   }
   train <- seq_len(n + m)
   new <- n + m + seq_len(2 * k)
-  z <- c(sd$y - drop(sd$h %*% pars$gamma), sd$eta)
-  list(mean = drop(cov[new, train] %*% solve(cov[train, train], z)),
+  # the emulator mean of every eta variable, from [1, x, t] . coef
+  coef <- reference_coef(sd, pars)
+  mu <- ifelse(has_eta, drop(cbind(1, u) %*% coef), 0)
+  z <- c(sd$y - drop(sd$h %*% pars$gamma), sd$eta) - mu[train]
+  list(mean = mu[new] + drop(cov[new, train] %*% solve(cov[train, train], z)),
        cov = cov[new, new] - cov[new, train] %*% solve(cov[train, train], cov[train, new]))
 }
 
+# The emulator mean's coefficients on [1, x, t] (zero without a mean).
+reference_coef <- function(sd, pars) {
+  coef <- numeric(1 + sd$p + sd$q)
+  for (j in seq_len(sd$n_b)) coef <- coef + sd$b_select[, j] * pars$b[j]
+  coef
+}
+
 # The same parameters in the form R's prediction code takes.
-as_draw_pars <- function(pars, nugget) {
+as_draw_pars <- function(pars, nugget, sd) {
   list(tf = pars$tf, beta_eta = -4 * log(pars$rho_eta), beta_delta = -4 * log(pars$rho_delta),
        lambda_eta = pars$lambda_eta, lambda_delta = pars$lambda_delta,
-       lambda_e = pars$lambda_e, gamma = pars$gamma, nugget = nugget)
+       lambda_e = pars$lambda_e, gamma = pars$gamma, coef = reference_coef(sd, pars),
+       nugget = nugget)
+}
+
+# A random grid problem: every run at every field input and at `extra`
+# further inputs, rows shuffled.
+random_grid_data <- function(n = 7, runs = 5, extra = 2) {
+  x <- matrix(runif((n + extra) * 2), n + extra, 2, dimnames = list(NULL, c("a", "b")))
+  design <- cbind(k1 = runif(runs, 0, 3), k2 = runif(runs, 10, 20), k3 = runif(runs))
+  sim <- do.call(rbind, lapply(seq_len(runs), function(r) {
+    data.frame(eta = rnorm(n + extra, 5), x, t(design[r, ]))
+  }))
+  koh_data(data.frame(y = rnorm(n, 5), x[seq_len(n), ]), sim[sample(nrow(sim)), ])
 }

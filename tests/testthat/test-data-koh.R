@@ -37,7 +37,7 @@ test_that("columns can be given by name, in any order", {
 })
 
 test_that("the paper's column layout works by position", {
-  field <- setNames(seb_field, c("yf", "xf1", "xf2", "xf3"))
+  field <- setNames(seb_field[1:4], c("yf", "xf1", "xf2", "xf3"))
   sim <- setNames(seb_sim, c("yc", "xc1", "xc2", "xc3", "tc1", "tc2", "tc3"))
   d <- koh_data(field, sim)
   expect_equal(d$names$t, c("tc1", "tc2", "tc3"))
@@ -79,4 +79,47 @@ test_that("bad input gets classed errors that say what to fix", {
   repeated <- seb_sim[c(1:120, 5, 17), ]
   expect_error(koh_data(seb_field, repeated), class = "bayesbem_error_duplicated")
   expect_snapshot(koh_data(seb_field, repeated), error = TRUE)
+})
+
+test_that("inputs are matched by name: a column in one table only is an error", {
+  withr::local_options(cli.num_colors = 1)
+  # seb_sim has solar, the field table does not: solar is no parameter
+  field <- seb_field[c("y", "temp", "rh")]
+  expect_error(koh_data(field, seb_sim), class = "bayesbem_error_columns")
+  expect_snapshot(koh_data(field, seb_sim), error = TRUE)
+  # naming x and t says what is what
+  d <- koh_data(field, seb_sim, x = c("temp", "rh"), t = "equipment_power_density")
+  expect_equal(d$names$t, "equipment_power_density")
+  # a field input the simulation table lacks
+  wind <- cbind(seb_field, wind = 1:12)
+  expect_error(koh_data(wind, seb_sim), class = "bayesbem_error_columns")
+  expect_snapshot(koh_data(wind, seb_sim), error = TRUE)
+  # inputs in another order are matched by name, not position
+  shuffled <- seb_sim[c("eta", "solar", "temp", "rh", "fan_total_efficiency",
+                        "equipment_power_density", "infiltration_per_exterior_area")]
+  expect_equal(koh_data(seb_field, shuffled)$xc, koh_data(seb_field, seb_sim)$xc)
+})
+
+test_that("a date column dates the rows and is not an input", {
+  withr::local_options(cli.num_colors = 1)
+  d <- koh_data(seb_field, seb_sim)
+  expect_equal(d$names$period, "month")
+  expect_equal(d$names$x, c("temp", "rh", "solar"))
+  expect_equal(bayesbem:::period_labels(d)[c(1, 12)], c("Jan 2013", "Dec 2013"))
+  expect_output(print(d), "rows dated by month: Jan 2013 to Dec 2013")
+  daily <- seb_field
+  daily$month <- as.Date("2013-03-05") + 0:11
+  expect_equal(bayesbem:::period_labels(koh_data(daily, seb_sim))[1], "2013-03-05")
+  expect_null(koh_data(seb_field[1:4], seb_sim)$names$period)
+  expect_equal(bayesbem:::period_labels(koh_data(seb_field[1:4], seb_sim))[1:2], c("1", "2"))
+  two <- cbind(seb_field, read = seb_field$month + 27)
+  expect_snapshot(koh_data(two, seb_sim), error = TRUE)
+  chosen <- koh_data(two, seb_sim, x = c("temp", "rh", "solar"), period = "read")
+  expect_equal(bayesbem:::period_labels(chosen)[1], "2013-01-28")
+  expect_snapshot(koh_data(seb_field, seb_sim, period = "temp"), error = TRUE)
+})
+
+test_that("an input column that is all NA is called missing", {
+  withr::local_options(cli.num_colors = 1)
+  expect_snapshot(predict(seb_fit, data.frame(temp = NA, rh = 40, solar = 200)), error = TRUE)
 })

@@ -1,6 +1,7 @@
 test_that("the shipped case-study data have the documented layout", {
-  expect_equal(dim(seb_field), c(12, 4))
-  expect_named(seb_field, c("y", "temp", "rh", "solar"))
+  expect_equal(dim(seb_field), c(12, 5))
+  expect_named(seb_field, c("y", "temp", "rh", "solar", "month"))
+  expect_equal(seb_field$month, seq(as.Date("2013-01-01"), by = "month", length.out = 12))
   expect_equal(dim(seb_sim), c(120, 7))
   expect_named(seb_sim, c("eta", "temp", "rh", "solar", "fan_total_efficiency",
                           "equipment_power_density", "infiltration_per_exterior_area"))

@@ -3,7 +3,8 @@ test_that("check_convergence() reports every parameter and the sampler", {
   fit <- shared_fit()
   conv <- check_convergence(fit, warn = FALSE)
   expect_s3_class(conv, "koh_convergence")
-  expect_equal(nrow(conv), 15)
+  # tf, beta_eta, beta_delta, the lambdas, and the 7 terms of the linear emulator mean
+  expect_equal(nrow(conv), 3 + 6 + 3 + 3 + 7)
   expect_named(conv, c("variable", "rhat", "ess_bulk", "ess_tail", "ok"))
   expect_equal(conv$ok, conv$rhat < 1.01 & conv$ess_bulk >= 200 & conv$ess_tail >= 200)
   sp <- attr(conv, "sampler")
@@ -23,6 +24,34 @@ test_that("a deliberately short run gets a classed convergence warning", {
 
 test_that("a subset of the convergence table prints", {
   conv <- check_convergence(seb_fit, warn = FALSE)
-  expect_output(print(conv[, c("variable", "rhat")]), "beta_eta\\[temp\\] +1.856")
-  expect_output(print(conv[conv$rhat > 0, ]), "of 15 parameters")
+  expect_output(print(conv[, c("variable", "rhat")]),
+                sprintf("beta_eta\\[temp\\] +%.3f", conv$rhat[conv$variable == "beta_eta[temp]"]))
+  expect_output(print(conv[conv$rhat > 0, ]), sprintf("of %d parameters", nrow(conv)))
+})
+
+test_that("tree-depth hits and a low E-BFMI are warned about like the others", {
+  withr::local_options(cli.num_colors = 1)
+  conv <- check_convergence(seb_fit, rhat_max = 10, ess_min = 1, warn = FALSE)
+  attr(conv, "sampler")$divergent <- 0
+  expect_no_warning(bayesbem:::warn_convergence(conv))
+  attr(conv, "sampler")$treedepth_hits <- 7
+  attr(conv, "sampler")$ebfmi <- c(0.25, 0.9)
+  expect_warning(bayesbem:::warn_convergence(conv), class = "bayesbem_warning_convergence")
+  expect_snapshot(bayesbem:::warn_convergence(conv))
+})
+
+test_that("a fit that hits the maximum tree depth says so, and rstan's own warnings are not shown", {
+  skip_on_cran()
+  warnings <- list()
+  withCallingHandlers(
+    fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 100, seed = 1,
+                     control = list(max_treedepth = 2)),
+    warning = function(w) {
+      warnings[[length(warnings) + 1L]] <<- w
+      invokeRestart("muffleWarning")
+    })
+  expect_length(warnings, 1)
+  expect_s3_class(warnings[[1]], "bayesbem_warning_convergence")
+  expect_match(conditionMessage(warnings[[1]]), "hit the maximum tree depth \\(2\\)")
+  expect_gt(attr(check_convergence(fit, warn = FALSE), "sampler")$treedepth_hits, 0)
 })

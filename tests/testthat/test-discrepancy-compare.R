@@ -53,7 +53,10 @@ test_that("leave-one-out is exact for the Gaussian likelihood", {
   par <- bayesbem:::draw_parameters(fit, 1)[[1]]
   g <- bayesbem:::gp_geometry(fit$data, structure = "dense")
   sigma <- bayesbem:::koh_sigma_z(g, par)
-  z <- c(fit$data$y, fit$data$eta)
+  # less the emulator mean [1, x, t] . coef of every row (field rows at tf)
+  d <- fit$data
+  u <- rbind(cbind(1, d$xf, matrix(par$tf, d$n, d$q, byrow = TRUE)), cbind(1, d$xc, d$tc))
+  z <- c(d$y, d$eta) - drop(u %*% par$coef)
   i <- 5
   s12 <- sigma[i, -i]
   mu <- s12 %*% solve(sigma[-i, -i], z[-i])

@@ -1,14 +1,20 @@
 test_that("the Stan log density equals the method's, computed independently in R", {
   skip_on_cran()
   d <- koh_data(seb_field, seb_sim)
-  priors <- koh_priors(tf = prior_level("weak", c(equipment_power_density = 20,
-                                                  infiltration_per_exterior_area = 0.0008)))
-  sd <- bayesbem:::koh_stan_data(d, priors)
-  model <- koh_model_for(sd)
   withr::local_seed(42)
-  for (i in 1:5) {
-    pars <- random_koh_pars(sd)
-    expect_equal(stan_log_density(model, pars), reference_log_density(sd, pars), tolerance = 1e-8)
+  # each emulator mean: the linear default, and the paper's zero mean
+  for (emulator_mean in c("linear", "zero")) {
+    priors <- koh_priors(tf = prior_level("weak", c(equipment_power_density = 20,
+                                                    infiltration_per_exterior_area = 0.0008)),
+                         emulator_mean = emulator_mean)
+    sd <- bayesbem:::koh_stan_data(d, priors)
+    expect_equal(sd$n_b, if (emulator_mean == "zero") 0 else 7)
+    model <- koh_model_for(sd)
+    for (i in 1:4) {
+      pars <- random_koh_pars(sd)
+      expect_equal(stan_log_density(model, pars), reference_log_density(sd, pars),
+                   tolerance = 1e-8)
+    }
   }
 })
 
@@ -34,17 +40,6 @@ test_that("the Stan log density matches on other sizes, with outputs sampled in 
   }
 })
 
-# A random grid problem: every run at every field input and at `extra`
-# further inputs, rows shuffled.
-random_grid_data <- function(n = 7, runs = 5, extra = 2) {
-  x <- matrix(runif((n + extra) * 2), n + extra, 2, dimnames = list(NULL, c("a", "b")))
-  design <- cbind(k1 = runif(runs, 0, 3), k2 = runif(runs, 10, 20), k3 = runif(runs))
-  sim <- do.call(rbind, lapply(seq_len(runs), function(r) {
-    data.frame(eta = rnorm(n + extra, 5), x, t(design[r, ]))
-  }))
-  koh_data(data.frame(y = rnorm(n, 5), x[seq_len(n), ]), sim[sample(nrow(sim)), ])
-}
-
 test_that("the grid program's log density equals the dense program's", {
   skip_on_cran()
   withr::local_seed(11)
@@ -54,9 +49,12 @@ test_that("the grid program's log density equals the dense program's", {
   k2_mid <- (random$scaling$t_min[["k2"]] + random$scaling$t_max[["k2"]]) / 2
   problems <- list(
     shipped = list(d = koh_data(seb_field, seb_sim),
-                   priors = koh_priors(tf = prior_level("weak", c(equipment_power_density = 20)))),
+                   priors = koh_priors(tf = prior_level("weak", c(equipment_power_density = 20)),
+                                       emulator_mean = "zero")),
     random = list(d = random, priors = koh_priors(tf = list(k2 = prior_normal(k2_mid, 0.05)),
-                                                  nugget = 1e-4))
+                                                  nugget = 1e-4)),
+    constant = list(d = random_grid_data(extra = 0),
+                    priors = koh_priors(emulator_mean = "constant", mean_sd = 0.5))
   )
   expect_equal(random$grid$n_x, 9)
   for (pr in problems) {
@@ -123,7 +121,9 @@ test_that("print(), summary() and as_draws() show physical units and hyperparame
                     "beta_eta[fan_total_efficiency]", "beta_eta[equipment_power_density]",
                     "beta_eta[infiltration_per_exterior_area]",
                     "beta_delta[temp]", "beta_delta[rh]", "beta_delta[solar]",
-                    "lambda_eta", "lambda_delta", "lambda_e"))
+                    "lambda_eta", "lambda_delta", "lambda_e",
+                    "b[intercept]", "b[temp]", "b[rh]", "b[solar]", "b[fan_total_efficiency]",
+                    "b[equipment_power_density]", "b[infiltration_per_exterior_area]"))
   out <- capture.output(print(fit))
   expect_true(any(grepl("Calibration parameters (physical units)", out, fixed = TRUE)))
   expect_true(any(grepl("equipment_power_density", out)))
@@ -144,4 +144,60 @@ test_that("calibrate() rejects bad arguments with classed errors", {
   expect_snapshot(calibrate(seb_field, seb_sim, iter = "500"), error = TRUE)
   expect_snapshot(calibrate(seb_field, seb_sim, iter = 100, warmup = 100), error = TRUE)
   expect_snapshot(calibrate(seb_field, seb_sim, priors = list()), error = TRUE)
+})
+
+test_that("wrong argument types say what they are", {
+  withr::local_options(cli.num_colors = 1)
+  expect_snapshot(calibrate(seb_field, seb_sim, iter = "500"), error = TRUE)
+  expect_snapshot(calibrate(seb_field, seb_sim, chains = 0), error = TRUE)
+  expect_snapshot(calibrate(seb_field, seb_sim, seed = "x"), error = TRUE)
+  expect_snapshot(calibrate(seb_field, seb_sim, structure = "grd"), error = TRUE)
+  expect_snapshot(calibrate(seb_field, seb_sim, n_draws = 10), error = TRUE)
+  expect_error(calibrate(seb_field, seb_sim, iter = 1.5), class = "bayesbem_error_argument")
+})
+
+test_that("methods reject arguments they do not use", {
+  expect_error(summary(seb_fit, digits = 2), class = "rlib_error_dots_nonempty")
+  expect_error(print(seb_fit, digits = 2), class = "rlib_error_dots_nonempty")
+  expect_error(posterior::as_draws_df(seb_fit, n = 2), class = "rlib_error_dots_nonempty")
+  expect_error(loo::loo(seb_fit, n_draws = 10), class = "rlib_error_dots_nonempty")
+  expect_error(print(koh_priors(), 1), class = "rlib_error_dots_nonempty")
+  expect_error(print(koh_data(seb_field, seb_sim), 1), class = "rlib_error_dots_nonempty")
+  expect_error(print(check_convergence(seb_fit, warn = FALSE), colour = 2),
+               class = "rlib_error_dots_nonempty")
+})
+
+test_that("summaries have the parameters as row names and print without scientific notation", {
+  s <- summary(seb_fit)
+  expect_equal(rownames(s$parameters), seb_fit$data$names$t)
+  expect_equal(rownames(s$hyperparameters)[1], "beta_eta[temp]")
+  out <- capture.output(print(seb_fit))
+  expect_false(any(grepl("[0-9]e[-+][0-9]", out)))
+  # each row to two significant digits of its sd
+  epd <- s$parameters["equipment_power_density", ]
+  line <- grep("^equipment_power_density ", out, value = TRUE)[1]
+  expect_match(line, sprintf("^equipment_power_density +%.1f +%.1f ", epd$mean, epd$sd))
+  inf <- s$parameters["infiltration_per_exterior_area", ]
+  digits <- 2 - ceiling(log10(inf$sd))
+  expect_match(grep("^infiltration_per_exterior_area ", out, value = TRUE)[1],
+               formatC(inf$mean, format = "f", digits = digits), fixed = TRUE)
+  expect_equal(bayesbem:::sd_decimals(c(1.2, 0.05, 0.00023, 400, 0, NA)), c(1, 3, 5, 0, 3, 3))
+})
+
+test_that("three years of bills with 30 runs converge with the defaults (a seeded problem)", {
+  skip_on_cran()
+  # problem 2 of bench/bench-reliability.R at n = 36, mt = 30; not every
+  # problem converges yet (see bench/RESULTS.md)
+  problem <- bayesbem:::synthetic_problem(36, 30, 2)
+  expect_equal(nrow(problem$field), 36)
+  fit <- calibrate(problem$field, problem$runs, seed = 4002, cores = 2)
+  conv <- check_convergence(fit, warn = FALSE)
+  expect_lt(max(conv$rhat), 1.01)
+  expect_gte(min(conv$ess_bulk, conv$ess_tail), 400)
+  expect_equal(attr(conv, "sampler")$divergent, 0)
+  draws <- bayesbem:::parameter_draws(fit)
+  for (p in names(problem$truth)) {
+    q <- stats::quantile(draws[, p], c(0.05, 0.95))
+    expect_true(problem$truth[[p]] >= q[[1]] && problem$truth[[p]] <= q[[2]], label = p)
+  }
 })

@@ -27,3 +27,10 @@ test_that("calibration_metrics() gives training and held-out metrics with a verd
   expect_true(hourly$calibrated)
   expect_snapshot(calibration_metrics(fit, newdata = held[2:4]), error = TRUE)
 })
+
+test_that("calibration metrics print with 2 decimals", {
+  m <- calibration_metrics(seb_fit, ndraws = 50)
+  expect_s3_class(m, "koh_metrics")
+  out <- capture.output(print(m))
+  expect_match(out[2], sprintf("training 12 +%.2f +%.2f +TRUE", m$cvrmse, m$nmbe))
+})

@@ -22,10 +22,20 @@ test_that("an informative prior is drawn as its truncated normal", {
   expect_equal(dens, expected)
 })
 
+test_that("plot_posteriors_data() is the kernel density of the draws", {
+  d <- plot_posteriors_data(seb_fit, n_grid = 64)
+  draws <- as.vector(bayesbem:::parameter_draws(seb_fit)[, "fan_total_efficiency"])
+  lo <- seb_fit$data$scaling$t_min[["fan_total_efficiency"]]
+  hi <- seb_fit$data$scaling$t_max[["fan_total_efficiency"]]
+  expected <- stats::density(draws, from = lo, to = hi, n = 64)$y
+  post <- d[d$parameter == "fan_total_efficiency" & d$curve == "posterior", ]
+  expect_equal(post$density, expected, tolerance = 1e-8)
+})
+
+# drawn from the shipped seb_fit, whose draws are the same on every machine
 test_that("plot_posteriors() draws the paper's Fig 5", {
-  skip_on_cran()
   skip_if_not_installed("vdiffr")
-  p <- plot_posteriors(shared_fit())
+  p <- plot_posteriors(seb_fit)
   expect_s3_class(p, "ggplot")
   vdiffr::expect_doppelganger("posteriors", p)
 })

@@ -6,16 +6,22 @@ test_that("conditioning equals a brute-force dense computation on a tiny problem
   sim <- do.call(rbind, lapply(1:3, function(r) data.frame(eta = rnorm(n), x, k = design[r])))
   field <- data.frame(y = rnorm(n), x)
   # a grid over the field inputs, and one with a further input (held out)
-  for (d in list(koh_data(field, sim), koh_data(field[1:3, ], sim))) {
+  # with the linear emulator mean (4 terms: 1, a, b, k), and the paper's zero mean
+  cases <- list(list(d = koh_data(field, sim), priors = koh_priors()),
+                list(d = koh_data(field[1:3, ], sim), priors = koh_priors()),
+                list(d = koh_data(field, sim), priors = koh_priors(emulator_mean = "zero")))
+  for (case in cases) {
+    d <- case$d
     expect_false(is.null(d$grid))
-    sd <- bayesbem:::koh_stan_data(d, koh_priors())
+    sd <- bayesbem:::koh_stan_data(d, case$priors)
+    expect_equal(sd$n_b, if (case$priors$emulator_mean == "zero") 0 else 4)
     # new rows off the data and on a field input, where the jitter applies
     x_new <- rbind(matrix(runif(6), 3, 2), d$xf[2, ], d$xc[4, ])
     for (structure in c("dense", "grid")) {
       g <- bayesbem:::gp_geometry(d, x_new, structure)
       for (i in 1:3) {
         pars <- random_koh_pars(sd)
-        ours <- bayesbem:::koh_conditional(g, as_draw_pars(pars, sd$nugget))
+        ours <- bayesbem:::koh_conditional(g, as_draw_pars(pars, sd$nugget, sd))
         brute <- reference_conditional(sd, pars, x_new)
         expect_equal(ours$mean, brute$mean, tolerance = 1e-8)
         expect_equal(ours$cov, brute$cov, tolerance = 1e-8)
@@ -75,4 +81,32 @@ test_that("newdata is checked: extrapolation warns, wrong columns fail", {
   expect_error(predict(fit, data.frame(temp = 1, rh = 2)), class = "bayesbem_error_columns")
   expect_snapshot(predict(fit, data.frame(temp = 1, rh = 2)), error = TRUE)
   expect_snapshot(predict(fit, type = "eta", method = "sampled"), error = TRUE)
+})
+
+test_that("predict() rejects unknown arguments and types with classed errors", {
+  withr::local_options(cli.num_colors = 1)
+  expect_error(predict(seb_fit, n_draws = 10), class = "rlib_error_dots_nonempty")
+  expect_error(predict(seb_fit, type = "dleta"), class = "bayesbem_error_argument")
+  expect_snapshot(predict(seb_fit, type = "dleta"), error = TRUE)
+  expect_snapshot(predict(seb_fit, method = 2), error = TRUE)
+  expect_snapshot(plot(seb_fit, type = "trace plot"), error = TRUE)
+  expect_snapshot(plot(seb_fit, type = "trace", variable = "lambda_e"), error = TRUE)
+  expect_snapshot(prior_level("strong"), error = TRUE)
+  expect_s3_class(plot(seb_fit, type = "trace", variables = "lambda_e"), "ggplot")
+})
+
+test_that("predictive draws come from a Cholesky factor, the same on every machine", {
+  cov <- matrix(c(4, 1, 0, 1, 3, 1, 0, 1, 2), 3)
+  z <- withr::with_seed(3, rnorm(3))
+  expect_equal(withr::with_seed(3, bayesbem:::rmvnorm_psd(1:3, cov)),
+               1:3 + drop(t(chol(cov)) %*% z))
+  # a covariance whose eigenvectors are not unique (equal eigenvalues) moves
+  # the draw only by its own change, however LAPACK would order and sign them
+  near <- diag(2) + matrix(c(0, 1e-13, 1e-13, 0), 2)
+  expect_equal(withr::with_seed(4, bayesbem:::rmvnorm_psd(c(0, 0), near)),
+               withr::with_seed(4, bayesbem:::rmvnorm_psd(c(0, 0), diag(2))), tolerance = 1e-10)
+  # singular to rounding (rank one): draws lie on the line
+  v <- c(1, 2)
+  draw <- withr::with_seed(5, bayesbem:::rmvnorm_psd(c(0, 0), tcrossprod(v) - 1e-15 * diag(2)))
+  expect_equal(draw[2] / draw[1], 2, tolerance = 1e-4)
 })

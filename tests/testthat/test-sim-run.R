@@ -56,3 +56,40 @@ test_that("runs go through future plans", {
   parallel <- simulate_design(sim, design)
   expect_equal(parallel, sequential)
 })
+
+test_that("the cache key covers everything that changes a simulator's output", {
+  cache <- tempfile("cache")
+  design <- data.frame(equipment_power_density = c(10, 20))
+  epw <- epw_monthly(shipped_epw(2013))
+  small <- simulate_design(bem_simulator(epw), design, cache_dir = cache)
+  big <- simulate_design(bem_simulator(epw, building = bem_building(floor_area = 200)), design,
+                         cache_dir = cache)
+  fresh <- simulate_design(bem_simulator(epw, building = bem_building(floor_area = 200)), design)
+  expect_equal(big$eta, fresh$eta)
+  expect_false(isTRUE(all.equal(big$eta, small$eta)))
+  gas <- simulate_design(bem_simulator(epw, output = "gas"), design, cache_dir = cache)
+  expect_false(isTRUE(all.equal(gas$eta, small$eta)))
+  # custom simulators of the same name that differ in a captured value or a global
+  make <- function(k) {
+    simulator(function(params, x) k * params$a * x$temp, x = data.frame(temp = 1:3),
+              parameters = data.frame(parameter = "a", initial = 1, min = 0, max = 2))
+  }
+  one <- simulate_design(make(1), data.frame(a = 1), cache_dir = cache)
+  two <- simulate_design(make(2), data.frame(a = 1), cache_dir = cache)
+  expect_equal(two$eta, 2 * one$eta)
+  scale_factor <- 3
+  scaled <- simulator(function(params, x) scale_factor * x$temp, x = data.frame(temp = 1:3),
+                      parameters = data.frame(parameter = "a", initial = 1, min = 0, max = 2))
+  expect_equal(simulate_design(scaled, data.frame(a = 1), cache_dir = cache)$eta, c(3, 6, 9))
+  scale_factor <- 4
+  expect_equal(simulate_design(scaled, data.frame(a = 1), cache_dir = cache)$eta, c(4, 8, 12))
+  # and an explicit key for what the code cannot show (e.g. a file's contents)
+  keyed <- function(version) {
+    simulator(function(params, x) x$temp, x = data.frame(temp = 1:3), key = version,
+              parameters = data.frame(parameter = "a", initial = 1, min = 0, max = 2))
+  }
+  simulate_design(keyed("v1"), data.frame(a = 1), cache_dir = cache)
+  n_files <- length(list.files(cache))
+  simulate_design(keyed("v2"), data.frame(a = 1), cache_dir = cache)
+  expect_equal(length(list.files(cache)), n_files + 1)
+})

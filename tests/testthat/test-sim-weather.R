@@ -48,3 +48,29 @@ test_that("files that are not EPW get classed errors", {
   expect_error(epw_monthly(bad), class = "bayesbem_error_weather")
   expect_snapshot(epw_monthly(bad), error = TRUE, transform = function(x) gsub(bad, "<file>", x, fixed = TRUE))
 })
+
+test_that("weather by day and week are the means of their hours, dated", {
+  epw <- shipped_epw(2013)
+  hourly <- bayesbem:::read_epw_hourly(epw)
+  d <- epw_daily(epw)
+  expect_equal(nrow(d), 365)
+  expect_equal(d$date, seq(as.Date("2013-01-01"), by = "day", length.out = 365))
+  expect_equal(unique(d$hours), 24)
+  expect_equal(d$temp[40], mean(hourly$temp[hourly$month == 2 & hourly$day == 9]))
+  expect_equal(d$hdd[40], max(18.3 - d$temp[40], 0))
+  expect_equal(d$cdd[200], max(d$temp[200] - 18.3, 0))
+  w <- epw_weather(epw, by = "week")
+  expect_equal(nrow(w), 53)
+  expect_equal(w$days, c(rep(7, 52), 1))
+  expect_equal(w$rh[2], mean(hourly$rh[169:336]))
+  expect_equal(w$hdd[2], sum(d$hdd[8:14]))
+  # the monthly sums of the daily degree-days are the monthly degree-days
+  m <- epw_monthly(epw)
+  expect_equal(m$hdd, as.vector(tapply(d$hdd, d$month, sum)))
+  expect_equal(m$date, seq(as.Date("2013-01-01"), by = "month", length.out = 12))
+  expect_error(epw_weather(epw, by = "year"), class = "bayesbem_error_argument")
+  # a daily table drives the embedded model, one output per day
+  daily_out <- simulate_design(bem_simulator(d), data.frame(equipment_power_density = 12))$eta
+  expect_length(daily_out, 365)
+  expect_true(all(daily_out > 0))
+})

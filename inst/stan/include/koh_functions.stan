@@ -71,32 +71,46 @@
                       append_col(sigma_fc', sigma_cc));
   }
 
+  /* Log density of vec(E) ~ N(0, Kt (x) Kx / lambda_eta), the simulation
+   * runs on a grid (E[i, a]: run a at grid input i), from the Cholesky
+   * factors Lx and Lt of the jittered input and run correlations, without
+   * forming the Kronecker product: log |Kt (x) Kx| = n_x log|Kt| + mt log|Kx|
+   * and the quadratic form is the squared norm of Lx^-1 E Lt^-T. */
+  real runs_grid_lpdf(matrix E, matrix Lx, matrix Lt, real lambda_eta) {
+    int n_x = rows(E);
+    int mt = cols(E);
+    matrix[n_x, mt] white = mdivide_left_tri_low(Lt, mdivide_left_tri_low(Lx, E)')';
+    return -0.5 * (n_x * mt * log(2 * pi()) - n_x * mt * log(lambda_eta)
+                   + 2 * n_x * sum(log(diagonal(Lt))) + 2 * mt * sum(log(diagonal(Lx)))
+                   + lambda_eta * sum(columns_dot_self(white)));
+  }
+
+  /* Log density of the field outputs given the runs on a grid, with
+   * w = Kt^-1 k0 (from Lt and k0 = k_t(tf, t_a)) and c = 1 + nugget - k0' w:
+   *   y | E ~ N((E w)[1:n], c Kx_ff / lambda_eta + Sigma_delta + I / lambda_e)
+   * (inst/notes/design.md, "Grid designs"). E_f holds the first n rows of E
+   * (the field inputs), Kx_ff the field block of Kx. */
+  real field_given_runs_lpdf(vector y, matrix E_f, matrix Kx_ff, matrix Lt, vector k0,
+                             matrix sigma_delta, real lambda_eta, real lambda_e, real nugget) {
+    vector[rows(Lt)] v = mdivide_left_tri_low(Lt, k0);
+    vector[rows(Lt)] w = mdivide_right_tri_low(v', Lt)';   // Kt^-1 k0
+    real c = 1 + nugget - dot_self(v);
+    matrix[rows(y), rows(y)] sigma_y = add_diag(c * Kx_ff / lambda_eta + sigma_delta,
+                                                1 / lambda_e);
+    return multi_normal_cholesky_lpdf(y | E_f * w, cholesky_decompose(sigma_y));
+  }
+
   /* Log density of the KOH model on a grid design (every run made at the
    * n_x grid inputs, the n field inputs first), exactly that of koh_cov()
-   * without forming it. E holds the simulator output of run a at grid input
-   * i in E[i, a]; Kx and Kt are the jittered input and run correlations,
-   * k0 = k_t(tf, t_a). Then
-   *   vec(E) ~ N(0, Kt (x) Kx / lambda_eta)
-   *   y | E ~ N((E Kt^-1 k0)[1:n], c Kx[1:n, 1:n] / lambda_eta + Sigma_delta + I / lambda_e)
-   * with c = 1 + nugget - k0' Kt^-1 k0 (inst/notes/design.md, "Grid designs"). */
+   * without forming it: the runs' Kronecker density times the field outputs'
+   * density given the runs. */
   real koh_grid_lpdf(vector y, matrix E, matrix Kx, matrix Kt, vector k0,
                      matrix sigma_delta, real lambda_eta, real lambda_e, real nugget) {
     int n = rows(y);
-    int n_x = rows(E);
-    int mt = cols(E);
-    matrix[n_x, n_x] Lx = cholesky_decompose(Kx);
-    matrix[mt, mt] Lt = cholesky_decompose(Kt);
-    // Lx^-1 E Lt^-T, whose squared norm is the Kronecker quadratic form
-    matrix[n_x, mt] white = mdivide_left_tri_low(Lt, mdivide_left_tri_low(Lx, E)')';
-    vector[mt] v = mdivide_left_tri_low(Lt, k0);
-    vector[mt] w = mdivide_right_tri_low(v', Lt)';   // Kt^-1 k0
-    real c = 1 + nugget - dot_self(v);
-    matrix[n, n] sigma_y = add_diag(c * block(Kx, 1, 1, n, n) / lambda_eta + sigma_delta,
-                                    1 / lambda_e);
-    real lp_eta = -0.5 * (n_x * mt * log(2 * pi()) - n_x * mt * log(lambda_eta)
-                          + 2 * n_x * sum(log(diagonal(Lt))) + 2 * mt * sum(log(diagonal(Lx)))
-                          + lambda_eta * sum(columns_dot_self(white)));
-    return lp_eta + multi_normal_cholesky_lpdf(y | head(E * w, n), cholesky_decompose(sigma_y));
+    matrix[rows(Kt), rows(Kt)] Lt = cholesky_decompose(Kt);
+    return runs_grid_lpdf(E | cholesky_decompose(Kx), Lt, lambda_eta)
+           + field_given_runs_lpdf(y | block(E, 1, 1, n, cols(E)), block(Kx, 1, 1, n, n), Lt, k0,
+                                   sigma_delta, lambda_eta, lambda_e, nugget);
   }
 
   /* The parametric discrepancy terms h * gamma at the field rows (zero when
@@ -106,6 +120,28 @@
       return rep_vector(0, rows(h));
     }
     return h * gamma;
+  }
+
+  /* Coefficients (intercept, x, t) of the emulator mean h(x, t)' b, b placed
+   * in the columns of [1, x, t] that b_select picks and zero elsewhere
+   * (rstan 2.21 refuses to multiply zero-size matrices). */
+  vector mean_coefficients(matrix b_select, vector b) {
+    if (cols(b_select) == 0) {
+      return rep_vector(0, rows(b_select));
+    }
+    return b_select * b;
+  }
+
+  /* The emulator mean h(x, t)' b at rows (x[i], t[i]): coef[1] + x[i] * coef_x
+   * + t[i] * coef_t. */
+  vector emulator_mean(matrix x, matrix t, vector coef) {
+    return coef[1] + x * segment(coef, 2, cols(x)) + t * tail(coef, cols(t));
+  }
+
+  /* The emulator mean on a grid: element (i, a) at grid input i and run a. */
+  matrix grid_mean(matrix x_grid, matrix tc, vector coef) {
+    return rep_matrix(coef[1] + x_grid * segment(coef, 2, cols(x_grid)), rows(tc))
+           + rep_matrix((tc * tail(coef, cols(tc)))', rows(x_grid));
   }
 
   /* Log prior of tf on [0, 1]: U(0, 1) where is_normal[k] is 0, otherwise

@@ -5,3 +5,4 @@
   real<lower=0> lambda_delta;            // precision of the discrepancy
   real<lower=0> lambda_e;                // precision of the observation error
   vector[n_h] gamma;                     // coefficients of the discrepancy terms
+  vector[n_b] b;                         // coefficients of the emulator mean

@@ -19,3 +19,8 @@
   int<lower=0> n_h;
   matrix[n, n_h] h;
   real<lower=0> gamma_sd;                // prior sd of each gamma
+  // emulator mean h(x, t)' b (Kennedy & O'Hagan 2001): b multiplies the n_b
+  // columns of [1, x, t] that b_select picks (n_b = 0: the paper's zero mean)
+  int<lower=0> n_b;
+  matrix[1 + p + q, n_b] b_select;
+  real<lower=0> b_sd;                    // prior sd of each b

@@ -5,3 +5,4 @@
   target += gamma_lpdf(lambda_e | lambda_e_shape, lambda_e_rate);
   target += tf_prior_lpdf(tf | tf_is_normal, tf_mu, tf_sd);
   target += normal_lpdf(gamma | 0, gamma_sd);
+  target += normal_lpdf(b | 0, b_sd);

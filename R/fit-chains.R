@@ -1,0 +1,136 @@
+# Running the NUTS chains of calibrate(): one chain per R process, a progress
+# bar over all of them instead of Stan's per-chain iteration lines, and
+# rstan's own diagnostic warnings left to check_convergence().
+
+# Runs `chains` chains of `model` with rstan::sampling(), at most `cores` at a
+# time. Chain k is rstan's `chain_id = k` under the same seed, so the draws
+# are those of one rstan::sampling(chains = chains, seed = seed) call. Where R
+# can fork (Linux, macOS), each chain runs in a forked process that writes
+# Stan's iteration lines to a log file, and the parent reads the logs to move
+# a cli progress bar; elsewhere the chains run one after another and the bar
+# moves per chain. `args` are further rstan::sampling() arguments. A chain
+# that cannot start calls `on_failure(messages)` with Stan's last lines.
+sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, cores, control,
+                          args, progress, on_failure, call = rlang::caller_env()) {
+  args$refresh <- args$refresh %||% max(1L, iter %/% 50L)
+  run <- function(k, log) {
+    run_chain(c(list(model, data = stan_data, chains = 1L, chain_id = k, iter = iter,
+                     warmup = warmup, seed = seed, cores = 1L, control = control), args), log)
+  }
+  logs <- tempfile(sprintf("bayesbem-chain%d-", seq_len(chains)), fileext = ".txt")
+  on.exit(unlink(logs), add = TRUE)
+  bar <- if (progress) {
+    cli::cli_progress_bar(label, total = chains * iter, clear = FALSE, .envir = environment())
+  }
+  # cli closes a bar that reaches its total, so it gets there only when done
+  tick <- function() {
+    if (progress) {
+      cli::cli_progress_update(id = bar, set = min(sum(chain_progress(logs, iter)),
+                                                   chains * iter - 1))
+    }
+  }
+  results <- if (can_fork()) fork_chains(run, chains, cores, logs, tick) else
+    lapply(seq_len(chains), function(k) {
+      result <- try(run(k, logs[k]), silent = TRUE)
+      tick()
+      result
+    })
+  if (progress) cli::cli_progress_done(id = bar)
+  collect_chains(results, on_failure, call)
+}
+
+# Runs `run(k, log)` for each chain in forked processes, `cores` at a time,
+# calling `tick()` about four times a second; the results in chain order
+# (a try-error for a chain whose process failed).
+fork_chains <- function(run, chains, cores, logs, tick) {
+  results <- vector("list", chains)
+  pending <- seq_len(chains)
+  running <- list()
+  while (length(pending) > 0L || length(running) > 0L) {
+    while (length(running) < cores && length(pending) > 0L) {
+      k <- pending[1]
+      pending <- pending[-1]
+      job <- parallel::mcparallel(run(k, logs[k]), silent = TRUE)
+      running[[as.character(job$pid)]] <- list(job = job, chain = k)
+    }
+    done <- parallel::mccollect(lapply(running, `[[`, "job"), wait = FALSE, timeout = 0.25)
+    for (pid in names(done)) {
+      results[running[[pid]]$chain] <- list(done[[pid]] %||% try_error("the chain's process died"))
+      running[[pid]] <- NULL
+    }
+    tick()
+  }
+  results
+}
+
+can_fork <- function() .Platform$OS.type == "unix"
+
+try_error <- function(message) {
+  structure(message, class = "try-error", condition = simpleError(message))
+}
+
+# One chain with its console output in `log`. rstan's sampler warnings
+# (divergences, tree depth, E-BFMI, R-hat, ESS) are dropped, since
+# check_convergence() reports each of them with a class; any other warning
+# is kept to be raised again in the calling process.
+run_chain <- function(args, log) {
+  con <- file(log, open = "wt")
+  sink(con)
+  sink(con, type = "message")
+  on.exit({
+    sink(type = "message")
+    sink()
+    close(con)
+  })
+  kept <- list()
+  fit <- withCallingHandlers(do.call(rstan::sampling, args), warning = function(w) {
+    if (!from_rstan_diagnostics()) kept[[length(kept) + 1L]] <<- w
+    invokeRestart("muffleWarning")
+  })
+  messages <- if (fit@mode != 0L) utils::tail(readLines(log, warn = FALSE), 5L)
+  list(fit = fit, warnings = kept, messages = messages)
+}
+
+# Whether the warning being handled was raised by rstan's end-of-sampling
+# diagnostics: told by the function that raised it (on the call stack), not
+# by the wording of its message.
+from_rstan_diagnostics <- function() {
+  diagnostics <- utils::getFromNamespace("throw_sampler_warnings", "rstan")
+  frames <- seq_len(sys.nframe())
+  any(vapply(frames, function(i) identical(sys.function(i), diagnostics), logical(1)))
+}
+
+# Iterations each chain has reported in its log (all of them once the chain
+# has finished, which its last line does not always say).
+chain_progress <- function(logs, iter) {
+  vapply(logs, function(log) {
+    if (!file.exists(log)) {
+      return(0)
+    }
+    lines <- readLines(log, warn = FALSE)
+    if (any(grepl("Elapsed Time", lines, fixed = TRUE))) {
+      return(iter)
+    }
+    done <- regmatches(lines, regexpr("Iteration: *[0-9]+", lines))
+    if (length(done) == 0L) 0 else as.numeric(sub("Iteration: *", "", done[length(done)]))
+  }, numeric(1), USE.NAMES = FALSE)
+}
+
+# One stanfit of all chains; a chain whose process failed is an error, one
+# that could not start (stanfit mode != 0) goes to `on_failure()`. Warnings
+# kept by run_chain() are raised here.
+collect_chains <- function(results, on_failure, call) {
+  failed <- which(vapply(results, inherits, logical(1), "try-error"))
+  if (length(failed) > 0L) {
+    abort_bayesbem(c("Chain {failed[1]} failed.",
+                     x = conditionMessage(attr(results[[failed[1]]], "condition"))),
+                   "sampling", call = call)
+  }
+  for (result in results) lapply(result$warnings, warning)
+  fits <- lapply(results, `[[`, "fit")
+  started <- vapply(fits, function(f) f@mode == 0L, logical(1))
+  if (!all(started)) {
+    on_failure(results[[which(!started)[1]]]$messages)
+  }
+  rstan::sflist2stanfit(fits)
+}

@@ -1,0 +1,61 @@
+# The modular KOH fit (Liu, Bayarri & Berger 2009, "Modularization in
+# Bayesian analysis, with emphasis on analysis of computer models"): stage 1
+# learns the emulator's hyperparameters from the simulation runs alone
+# (inst/stan/koh_emulator.stan), stage 2 calibrates tf, the discrepancy and
+# the noise with the emulator fixed at the stage-1 posterior medians
+# (inst/stan/koh_modular.stan). Cutting the feedback from the field data to
+# the emulator removes the emulator modes that the field data favour at
+# large n, and makes each stage-2 gradient one n x n Cholesky factor.
+
+# Stage 1 on at most `max_inputs` of the grid inputs (evenly spaced over the
+# field inputs, then the further ones): the length scales of x are learnt
+# from a few dozen inputs as well as from hundreds, at a fraction of the cost.
+emulator_rows <- function(grid, max_inputs = 60L) {
+  if (grid$n_x <= max_inputs) {
+    return(seq_len(grid$n_x))
+  }
+  unique(round(seq(1, grid$n_x, length.out = max_inputs)))
+}
+
+# Samples stage 1 and returns its stanfit and the emulator estimate: the
+# posterior medians of beta_eta, lambda_eta and b.
+fit_emulator <- function(data, priors, sampler) {
+  grid <- data$grid
+  rows <- emulator_rows(grid)
+  stan_data <- c(list(n = data$n, n_x = length(rows), mt = grid$mt, p = data$p, q = data$q,
+                      eta = matrix(data$eta[grid$index], grid$n_x)[rows, , drop = FALSE],
+                      x_grid = grid$x[rows, , drop = FALSE], tc = grid$design),
+                 koh_prior_data(data, priors))
+  stanfit <- do.call(sample_chains, c(list(stanmodels$koh_emulator, stan_data,
+                                           label = "Stage 1: emulator"), sampler))
+  pars <- c("beta_eta", "lambda_eta", if (stan_data$n_b > 0L) "b")
+  medians <- lapply(stats::setNames(nm = pars), function(par) {
+    apply(as.matrix(stanfit, pars = par), 2, stats::median)
+  })
+  list(stanfit = stanfit, beta_eta = medians$beta_eta, lambda_eta = medians$lambda_eta,
+       b = medians[["b"]] %||% numeric())
+}
+
+# The data of koh_modular.stan: the field data, the priors, and the fixed
+# emulator's pieces (the runs at the field inputs less the emulator mean,
+# the field block of Kx, the Cholesky factor of Kt).
+modular_stan_data <- function(data, priors, emulator) {
+  grid <- data$grid
+  n <- data$n
+  p <- data$p
+  xf <- grid$x[seq_len(n), , drop = FALSE]
+  coef <- drop(mean_selection(priors, p, data$q) %*% emulator$b)
+  if (length(coef) == 0L) coef <- numeric(1 + p + data$q)
+  beta_x <- emulator$beta_eta[seq_len(p)]
+  beta_t <- emulator$beta_eta[-seq_len(p)]
+  E <- matrix(data$eta[grid$index], grid$n_x)[seq_len(n), , drop = FALSE]
+  mean_f <- outer(coef[1] + drop(xf %*% coef[1 + seq_len(p)]),
+                  drop(grid$design %*% coef[-seq_len(1 + p)]), "+")
+  kt <- jittered_cor(pair_geometry(grid$design, grid$design), beta_t, priors$nugget)
+  c(list(n = n, mt = grid$mt, p = p, q = data$q, y = data$y, xf = xf, tc = grid$design),
+    koh_prior_data(data, priors),
+    list(beta_eta_fixed = as.array(emulator$beta_eta), lambda_eta_fixed = emulator$lambda_eta,
+         b_fixed = as.array(emulator$b), E_f = E - mean_f,
+         Kx_ff = jittered_cor(pair_geometry(xf, xf), beta_x, priors$nugget),
+         Lt = t(chol(kt))))
+}

@@ -1,0 +1,52 @@
+# Benchmark (issue 14, speed): time per gradient of the log density of the
+# joint grid program (koh_grid.stan), and of the two stages of the modular
+# fit (koh_emulator.stan on at most 60 grid inputs; koh_modular.stan with the
+# emulator fixed), for n daily field periods of 2013 and mt runs of the
+# embedded model (the paper's three calibration parameters, LHS design),
+# with the default priors (linear emulator mean). Median of repeated
+# rstan::grad_log_prob() calls at one point; one core.
+# Usage, from the package root, with bayesbem installed:
+#   Rscript bench/bench-gradient.R [n values, comma-separated] [mt]
+suppressPackageStartupMessages(library(bayesbem))
+args <- commandArgs(trailingOnly = TRUE)
+ns <- if (length(args) > 0) as.integer(strsplit(args[1], ",")[[1]]) else c(36, 120, 365)
+mt <- if (length(args) > 1) as.integer(args[2]) else 30L
+
+grad_time <- function(model, data, reps = 10) {
+  utils::capture.output(fit0 <- rstan::sampling(model, data = data, chains = 0))
+  upars <- rep(0.1, rstan::get_num_upars(fit0))
+  stats::median(vapply(seq_len(reps), function(i) {
+    system.time(rstan::grad_log_prob(fit0, upars))[["elapsed"]]
+  }, numeric(1)))
+}
+
+daily <- epw_daily(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+truth <- list(fan_total_efficiency = 0.5, equipment_power_density = 15,
+              infiltration_per_exterior_area = 0.0008)
+priors <- koh_priors()
+rows <- list()
+for (n in ns) {
+  sim <- bem_simulator(daily[unique(round(seq(1, nrow(daily), length.out = n))), ])
+  field <- simulate_field(sim, truth, noise_sd = 1, seed = 1)
+  params <- sim$parameters[sim$parameters$parameter %in% names(truth), ]
+  d <- koh_data(field, simulate_design(sim, design_lhs(params, n = mt, seed = 2)))
+  grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
+  keep <- bayesbem:::emulator_rows(d$grid)
+  stage1 <- grid[setdiff(names(grid), "y")]
+  stage1$n_x <- length(keep)
+  stage1$eta <- grid$eta[keep, , drop = FALSE]
+  stage1$x_grid <- grid$x_grid[keep, , drop = FALSE]
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1, b = rep(0, grid$n_b))
+  stage2 <- bayesbem:::modular_stan_data(d, priors, emulator)
+  rows[[length(rows) + 1L]] <- data.frame(
+    n = n, mt = mt,
+    joint_grid_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_grid, grid),
+    stage1_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_emulator, stage1),
+    stage2_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_modular, stage2)
+  )
+  print(rows[[length(rows)]], digits = 3, row.names = FALSE)
+}
+cat("\nTime per gradient (ms):\n")
+print(do.call(rbind, rows), digits = 3, row.names = FALSE)
+cat(sprintf("machine: %s, %d cores; R %s; rstan %s; %s\n", Sys.info()[["nodename"]],
+            parallel::detectCores(), getRversion(), packageVersion("rstan"), Sys.Date()))

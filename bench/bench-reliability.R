@@ -1,0 +1,74 @@
+# Benchmark (issue 14): does calibrate() with its default settings converge
+# and cover the truth at every data size? For each size (n field periods, mt
+# simulation runs): synthetic problems from the embedded model made by the
+# internal bayesbem:::synthetic_problem() (monthly weather for n <= 36: 2012,
+# 2013 and a perturbed copy of 2013; daily weather of 2013, n days evenly
+# spaced, above), the paper's three calibration parameters with the truth
+# drawn uniformly within the middle 80 % of their ranges, noise 2 % of the
+# mean output, a correct simulator, a maximin LHS design of mt runs at every
+# field period. Each problem is fitted with
+# calibrate(field, runs, seed = ...) and nothing else, plus the arguments in
+# BENCH_CALIBRATE (an R expression giving a list, e.g.
+# 'list(emulator_mean = "zero")' for the paper's model).
+# Reported per size: share converged (max R-hat < 1.01 over every
+# parameter, no divergent transition, bulk and tail ESS >= 400), coverage of
+# the truth by the 90 % intervals of each calibration parameter, median wall
+# time, and the worst R-hat's variable.
+# Usage, from the package root, with bayesbem installed:
+#   [BENCH_CALIBRATE='list(...)'] Rscript bench/bench-reliability.R \
+#     [sizes as n:mt:problems, comma-separated; default 12:10:10,12:30:10,36:30:10,120:30:3,365:30:3]
+suppressPackageStartupMessages(library(bayesbem))
+options(bayesbem.progress = FALSE)
+args <- commandArgs(trailingOnly = TRUE)
+spec <- if (length(args) > 0) args[1] else "12:10:10,12:30:10,36:30:10,120:30:3,365:30:3"
+sizes <- do.call(rbind, lapply(strsplit(strsplit(spec, ",")[[1]], ":"), function(s) {
+  data.frame(n = as.integer(s[1]), mt = as.integer(s[2]), problems = as.integer(s[3]))
+}))
+extra <- eval(parse(text = Sys.getenv("BENCH_CALIBRATE", "list()")))
+
+one_problem <- function(n, mt, k) {
+  problem <- bayesbem:::synthetic_problem(n, mt, k)
+  truth <- problem$truth
+  wall <- system.time(fit <- suppressWarnings(
+    do.call(calibrate, c(list(problem$field, problem$runs, seed = 4000 + k), extra)),
+    classes = "bayesbem_warning_convergence"
+  ))[["elapsed"]]
+  conv <- check_convergence(fit, warn = FALSE)
+  sampler <- attr(conv, "sampler")
+  draws <- bayesbem:::parameter_draws(fit)
+  covered <- vapply(names(truth), function(p) {
+    q <- stats::quantile(draws[, p], c(0.05, 0.95))
+    truth[[p]] >= q[1] && truth[[p]] <= q[2]
+  }, logical(1))
+  worst <- which.max(conv$rhat)
+  data.frame(n = n, mt = mt, problem = k,
+             converged = max(conv$rhat) < 1.01 && sampler$divergent == 0 &&
+               min(conv$ess_bulk, conv$ess_tail) >= 400,
+             max_rhat = max(conv$rhat), worst = conv$variable[worst],
+             min_ess = min(conv$ess_bulk, conv$ess_tail), divergent = sampler$divergent,
+             treedepth_hits = sampler$treedepth_hits, covered = sum(covered),
+             parameters = length(covered), wall_s = wall)
+}
+
+cat(sprintf("machine: %s, %d cores; R %s; date %s\ncalibrate() extra arguments: %s\n\n",
+            Sys.info()[["nodename"]], parallel::detectCores(), getRversion(), Sys.Date(),
+            Sys.getenv("BENCH_CALIBRATE", "none")))
+rows <- list()
+for (i in seq_len(nrow(sizes))) {
+  s <- sizes[i, ]
+  for (k in seq_len(s$problems)) {
+    r <- one_problem(s$n, s$mt, k)
+    print(r, row.names = FALSE)
+    rows[[length(rows) + 1L]] <- r
+  }
+}
+all <- do.call(rbind, rows)
+summary <- do.call(rbind, lapply(split(all, list(all$n, all$mt), drop = TRUE), function(d) {
+  data.frame(n = d$n[1], mt = d$mt[1], problems = nrow(d),
+             converged = sprintf("%d/%d", sum(d$converged), nrow(d)),
+             coverage_90 = sprintf("%d/%d", sum(d$covered), sum(d$parameters)),
+             median_wall_s = round(stats::median(d$wall_s)),
+             max_rhat = round(max(d$max_rhat), 3))
+}))
+cat("\nSummary\n")
+print(summary[order(summary$n, summary$mt), ], row.names = FALSE)

@@ -1,0 +1,61 @@
+// Stage 2 of the modular KOH fit (Liu, Bayarri & Berger 2009) on a grid
+// design: the calibration parameters, the discrepancy and the noise, with
+// the emulator's hyperparameters fixed at their stage-1 estimates
+// (koh_emulator.stan). Everything that depends on the emulator alone is
+// data: the runs less the emulator mean at the field inputs, E_f, the field
+// block of Kx and the Cholesky factor of Kt. Each gradient then costs one
+// n x n Cholesky factor, O(n^3 + n mt + mt^2). The log density is that of
+// koh_grid.stan given the runs, at the fixed emulator.
+functions {
+#include /include/koh_functions.stan
+}
+data {
+  int<lower=1> n;                        // field observations
+  int<lower=1> mt;                       // simulation runs
+  int<lower=1> p;                        // observable inputs x
+  int<lower=1> q;                        // calibration parameters t
+  vector[n] y;                           // field output
+  matrix[n, p] xf;                       // field inputs
+  matrix[mt, q] tc;                      // simulation design, one row per run
+#include /include/koh_prior_data.stan
+  // the stage-1 emulator
+  vector[p + q] beta_eta_fixed;          // its correlation parameters
+  real<lower=0> lambda_eta_fixed;        // its precision
+  vector[n_b] b_fixed;                   // its mean coefficients
+  matrix[n, mt] E_f;                     // runs at the field inputs less the emulator mean
+  matrix[n, n] Kx_ff;                    // jittered correlation of the field inputs
+  matrix[mt, mt] Lt;                     // Cholesky factor of the jittered run correlation
+}
+transformed data {
+  matrix[n * n, p + 1] nd2_ff = neg_sqdist(xf, xf);
+  vector[1 + p + q] coef = mean_coefficients(b_select, b_fixed);
+}
+parameters {
+  vector<lower=0, upper=1>[q] tf;        // calibration parameters
+  vector<lower=0, upper=1>[p] rho_delta;
+  real<lower=0> lambda_delta;            // precision of the discrepancy
+  real<lower=0> lambda_e;                // precision of the observation error
+  vector[n_h] gamma;                     // coefficients of the discrepancy terms
+}
+transformed parameters {
+  vector[p] beta_delta = -4 * log(rho_delta);
+}
+model {
+  vector[mt] k0 = tf_cor(tf', tc, tail(beta_eta_fixed, q));
+  matrix[n, n] sigma_delta = sq_exp_cov(nd2_ff, beta_delta, lambda_delta, n, n);
+  target += beta_lpdf(rho_delta | rho_delta_a, rho_delta_b);
+  target += gamma_lpdf(lambda_delta | lambda_delta_shape, lambda_delta_rate);
+  target += gamma_lpdf(lambda_e | lambda_e_shape, lambda_e_rate);
+  target += tf_prior_lpdf(tf | tf_is_normal, tf_mu, tf_sd);
+  target += normal_lpdf(gamma | 0, gamma_sd);
+  target += field_given_runs_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef)
+                                  - discrepancy_terms(h, gamma)
+                                  | E_f, Kx_ff, Lt, k0, sigma_delta, lambda_eta_fixed, lambda_e,
+                                  nugget);
+}
+generated quantities {
+  // the fixed emulator, under the names of the joint programs
+  vector[p + q] beta_eta = beta_eta_fixed;
+  real lambda_eta = lambda_eta_fixed;
+  vector[n_b] b = b_fixed;
+}

@@ -1,0 +1,76 @@
+# The modular fit's two log densities add up to the joint grid density: the
+# runs' density and the emulator priors (stage 1) plus the field outputs'
+# density given the runs and the other priors (stage 2), at the same values.
+test_that("stage 1 + stage 2 log densities equal the joint grid density", {
+  skip_on_cran()
+  withr::local_seed(21)
+  problems <- list(
+    shipped = list(d = koh_data(seb_field, seb_sim), priors = koh_priors()),
+    random = list(d = random_grid_data(extra = 2),
+                  priors = koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)), nugget = 1e-4,
+                                      emulator_mean = "constant"))
+  )
+  for (pr in problems) {
+    d <- pr$d
+    grid_sd <- bayesbem:::koh_stan_data(d, pr$priors, structure = "grid")
+    dense_sd <- bayesbem:::koh_stan_data(d, pr$priors, structure = "dense")
+    model_grid <- koh_model_for(grid_sd, "koh_grid")
+    stage1_sd <- grid_sd[setdiff(names(grid_sd), "y")]
+    model_stage1 <- koh_model_for(stage1_sd, "koh_emulator")
+    for (i in 1:3) {
+      pars <- random_koh_pars(dense_sd)
+      emulator <- list(beta_eta = -4 * log(pars$rho_eta), lambda_eta = pars$lambda_eta,
+                       b = pars$b)
+      stage2_sd <- bayesbem:::modular_stan_data(d, pr$priors, emulator)
+      model_stage2 <- koh_model_for(stage2_sd, "koh_modular")
+      lp1 <- stan_log_density(model_stage1, pars[c("rho_eta", "lambda_eta", "b")])
+      lp2 <- stan_log_density(model_stage2, pars[c("tf", "rho_delta", "lambda_delta",
+                                                   "lambda_e", "gamma")])
+      joint <- stan_log_density(model_grid, pars[names(pars) != "y_pred"])
+      expect_equal(lp1 + lp2, joint, tolerance = 1e-8)
+      expect_equal(lp1 + lp2, reference_log_density(dense_sd, pars), tolerance = 1e-8)
+    }
+  }
+})
+
+test_that("stage 1 uses at most 60 grid inputs, evenly spaced", {
+  expect_equal(bayesbem:::emulator_rows(list(n_x = 12)), 1:12)
+  rows <- bayesbem:::emulator_rows(list(n_x = 365))
+  expect_length(rows, 60)
+  expect_equal(range(rows), c(1, 365))
+})
+
+test_that("the modular fit needs a grid and says so", {
+  withr::local_options(cli.num_colors = 1)
+  expect_snapshot(calibrate(seb_field, seb_sim, structure = "dense", modular = TRUE), error = TRUE)
+  expect_snapshot(calibrate(seb_field, seb_sim, modular = "yes"), error = TRUE)
+})
+
+test_that("modular and joint fits agree where the runs determine the emulator", {
+  skip_on_cran()
+  # a smooth simulator, well covered by 20 runs: the field data cannot teach
+  # the emulator anything, so cutting their feedback changes nothing
+  lin <- simulator(function(params, x) params$a * x$temp + params$b * sqrt(x$temp + 5),
+                   x = data.frame(temp = seq(-5, 25, length.out = 10)),
+                   parameters = data.frame(parameter = c("a", "b"), initial = c(1, 1),
+                                           min = c(0, 0), max = c(2, 4)))
+  field <- simulate_field(lin, list(a = 1.2, b = 2.5), noise_sd = 0.3, seed = 3)
+  runs <- simulate_design(lin, design_lhs(lin$parameters, n = 20, seed = 4))
+  fits <- lapply(c(joint = FALSE, modular = TRUE), function(modular) {
+    suppressWarnings(calibrate(field, runs, chains = 2, iter = 1000, seed = 5, cores = 2,
+                               modular = modular),
+                     classes = "bayesbem_warning_convergence")
+  })
+  draws <- lapply(fits, bayesbem:::parameter_draws)
+  for (p in c("a", "b")) {
+    sd_joint <- sd(draws$joint[, p])
+    expect_lt(abs(mean(draws$modular[, p]) - mean(draws$joint[, p])), 0.3 * sd_joint)
+    expect_equal(sd(draws$modular[, p]), sd_joint, tolerance = 0.3)
+  }
+  # the fixed emulator is reported from its stage-1 chains, and the fit predicts
+  conv <- check_convergence(fits$modular, warn = FALSE)
+  expect_false(anyNA(conv$rhat))
+  expect_output(print(fits$modular), "modular")
+  p <- predict(fits$modular, ndraws = 50)
+  expect_lt(max(abs(p$mean - field$y)), 1)
+})
