@@ -7,9 +7,13 @@
 #'   normal(0, `gamma_sd`) prior (see [koh_priors()]). A covariate can be an
 #'   observable input the simulator treats wrongly or anything the modeller
 #'   knows per field row (occupancy, working days, a step at a meter or
-#'   equipment change date, ...). Covariates are scaled to \[-1, 1\] by
-#'   their largest absolute value, so zero keeps its meaning ("no effect");
-#'   the coefficients are reported in output units per covariate unit as
+#'   equipment change date, ...). Covariates are divided by their range
+#'   (largest minus smallest value) but not centred: the prior's strength
+#'   is then the same in any units, and zero keeps its meaning ("no
+#'   effect"). A covariate far from zero (working days, 20-23) therefore
+#'   also shifts the output's level, like an intercept; subtract a
+#'   meaningful origin first (e.g. `working_days - 20`) where that is not
+#'   wanted. The coefficients are reported in output units per covariate unit as
 #'   `gamma[<name>]` by [posterior::as_draws()];
 #' * physically (`sim`): a new simulation table from a simulator that
 #'   includes the mechanism, typically with a new calibration parameter.
@@ -84,9 +88,9 @@ extension_covariates <- function(data, with, covariates, call = rlang::caller_en
   if (is.null(old)) added else cbind(old, added)
 }
 
-# Checks covariates of the discrepancy terms and adds them to `data`, scaled
-# by their largest absolute value: `h` (n x n_h), `h_scale` and the raw
-# `covariates`.
+# Checks covariates of the discrepancy terms and adds them to `data`, divided
+# by their range (not centred, so that zero keeps its meaning): `h`
+# (n x n_h), `h_scale` and the raw `covariates`.
 add_discrepancy_terms <- function(data, covariates, call = rlang::caller_env()) {
   if (is.null(covariates) || ncol(covariates) == 0L) {
     data[c("covariates", "h", "h_scale")] <- list(NULL)
@@ -95,7 +99,7 @@ add_discrepancy_terms <- function(data, covariates, call = rlang::caller_env()) 
   covariates <- covariate_table(covariates, data$n, call = call)
   check_numeric_complete(covariates, names(covariates), "covariates", call = call)
   check_columns_vary(covariates, call = call)
-  h_scale <- vapply(covariates, function(v) max(abs(v)), numeric(1))
+  h_scale <- vapply(covariates, function(v) diff(range(v)), numeric(1))
   data$covariates <- covariates
   data$h_scale <- h_scale
   data$h <- sweep(as.matrix(covariates), 2, h_scale, "/")

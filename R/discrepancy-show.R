@@ -3,23 +3,39 @@
 #' For every field point, the posterior of what the simulator misses, in
 #' physical units and as a share of the measured output: the model
 #' discrepancy `delta(x)`, and the simulator residual `y - eta(x, tf)`
-#' (discrepancy plus noise). A point is flagged where the central interval of
-#' the simulator residual excludes zero: there the simulator, at its
-#' calibrated parameters, misses the measurement by more than the model's
-#' uncertainty. (The interval of `delta` alone is often wider, because the
-#' calibration parameters can trade a shift of the output against the
-#' discrepancy.) The verdict names the flagged points and the sign: a
-#' positive residual means the simulator under-predicts.
+#' (discrepancy plus noise). Points are flagged with a simultaneous band of
+#' the residual, so that looking at n points at once does not find some by
+#' chance: the band is `mean +/- c sd` at every point, with `c` the `level`
+#' quantile over the posterior draws of the largest standardised deviation
+#' `max_i |r_i - mean_i| / sd_i` (a max-statistic band, which contains the
+#' whole residual vector with probability `level`). The global check comes
+#' first: the simulator is consistent with the data when the band contains
+#' zero everywhere; otherwise the points where it excludes zero are
+#' flagged. There the simulator, at its calibrated parameters, misses the
+#' measurement by more than the model's uncertainty. (The interval of
+#' `delta` alone is often wider, because the calibration parameters can
+#' trade a shift of the output against the discrepancy.) The verdict names
+#' the flagged points and the sign: a positive residual means the simulator
+#' under-predicts.
+#'
+#' Shares are percentages of the measured output, with outputs smaller than
+#' a tenth of the mean absolute output counted as a tenth of it, so that
+#' points with almost no use (gas in summer) do not get enormous or infinite
+#' shares.
 #'
 #' @param fit A `koh_fit`.
 #' @param newdata,obs Observable inputs and measured outputs to examine;
 #'   default: the field data the model was calibrated on.
-#' @param level Probability of the central intervals.
+#' @param level Probability of the pointwise intervals and of the
+#'   simultaneous band.
 #' @param ndraws Number of posterior draws to use (all by default).
 #' @return A data frame of class `koh_discrepancy`, one row per point: the
 #'   inputs, `point`, `obs`, and for `delta` and `residual` the posterior
-#'   `mean`, `lower` and `upper` (physical units) and `share` (mean, percent
-#'   of `obs`), plus `flag`. The verdict is in `attr(, "verdict")`.
+#'   `mean`, pointwise `lower` and `upper` (physical units) and `share`
+#'   (mean, percent of `obs`, see Details), the residual's simultaneous band
+#'   `band_lower`, `band_upper`, and `flag` (the band excludes zero). The
+#'   verdict is in `attr(, "verdict")`, the band's multiplier `c` in
+#'   `attr(, "critical")`.
 #' @family discrepancy
 #' @export
 #' @examples
@@ -37,23 +53,43 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
   probs <- c((1 - level) / 2, (1 + level) / 2)
   delta_int <- column_quantiles(draws$delta, probs)
   residual_int <- column_quantiles(residual, probs)
+  band <- simultaneous_band(residual, level)
+  share_of <- share_scale(set$obs)
   out <- data.frame(
     set$x[fit$data$names$x], point = seq_along(set$obs), obs = set$obs,
     delta_mean = colMeans(draws$delta), delta_lower = delta_int[, 1], delta_upper = delta_int[, 2],
-    delta_share = 100 * colMeans(draws$delta) / set$obs,
+    delta_share = 100 * colMeans(draws$delta) / share_of,
     residual_mean = colMeans(residual), residual_lower = residual_int[, 1],
-    residual_upper = residual_int[, 2], residual_share = 100 * colMeans(residual) / set$obs,
+    residual_upper = residual_int[, 2], residual_share = 100 * colMeans(residual) / share_of,
+    band_lower = band$lower, band_upper = band$upper,
     row.names = NULL
   )
-  out$flag <- out$residual_lower > 0 | out$residual_upper < 0
+  out$flag <- out$band_lower > 0 | out$band_upper < 0
   structure(out, class = c("koh_discrepancy", "data.frame"), level = level,
-            verdict = discrepancy_verdict(out, level))
+            critical = band$critical, verdict = discrepancy_verdict(out, level))
+}
+
+# Simultaneous band of the columns of a draws matrix: mean +/- c sd, with c
+# the `level` quantile of max_i |x_i - mean_i| / sd_i over the draws.
+simultaneous_band <- function(draws, level) {
+  centre <- colMeans(draws)
+  spread <- pmax(apply(draws, 2, stats::sd), .Machine$double.eps)
+  deviation <- abs(sweep(sweep(draws, 2, centre), 2, spread, "/"))
+  critical <- stats::quantile(apply(deviation, 1, max), level, names = FALSE)
+  list(lower = centre - critical * spread, upper = centre + critical * spread,
+       critical = critical)
+}
+
+# Denominators of the shares: the measured output, but at least a tenth of
+# the mean absolute output.
+share_scale <- function(obs) {
+  pmax(abs(obs), 0.1 * mean(abs(obs)))
 }
 
 discrepancy_verdict <- function(d, level) {
   flagged <- d[d$flag, , drop = FALSE]
   if (nrow(flagged) == 0L) {
-    return(sprintf("The simulator is consistent with the data: every %g%% interval of y - eta contains zero.",
+    return(sprintf("The simulator is consistent with the data: the %g%% simultaneous band of y - eta contains zero at every point.",
                    100 * level))
   }
   describe <- function(rows, word) {
@@ -78,17 +114,17 @@ print.koh_discrepancy <- function(x, digits = 3, ...) {
 
 #' Plot the posterior discrepancy
 #'
-#' The posterior mean and central interval of what the simulator misses, the
-#' residual `y - eta(x, tf)` (discrepancy plus noise, as a share of the
-#' measured output, percent) at every point, along each
+#' The posterior mean and simultaneous band of what the simulator misses,
+#' the residual `y - eta(x, tf)` (discrepancy plus noise, as a share of the
+#' measured output, percent, see [discrepancy()]) at every point, along each
 #' observable input and along the points' order (time, for field data in
-#' time order). Flagged points, whose interval excludes zero, are drawn in
+#' time order). Flagged points, where the band excludes zero, are drawn in
 #' red.
 #'
 #' @param x A `koh_discrepancy` from [discrepancy()].
 #' @return `plot_discrepancy()`: a ggplot. `plot_discrepancy_data()`: a data
 #'   frame with `along` (the input, or `"point order"`), `position`, `point`,
-#'   `mean`, `lower`, `upper` (percent of the output) and `flag`.
+#'   `mean`, `lower`, `upper` (the band; percent of the output) and `flag`.
 #' @family discrepancy
 #' @family plots
 #' @export
@@ -117,14 +153,14 @@ plot_discrepancy_data <- function(x) {
   if (!inherits(x, "koh_discrepancy")) {
     abort_bayesbem("{.arg x} must be made by {.fn discrepancy}.", "argument")
   }
-  x_names <- setdiff(names(x), c("point", "obs", grep("^(delta|residual)_", names(x), value = TRUE),
-                                 "flag"))
-  share <- function(v) 100 * v / x$obs
+  x_names <- setdiff(names(x), c("point", "obs", "flag",
+                                 grep("^(delta|residual|band)_", names(x), value = TRUE)))
+  share <- function(v) 100 * v / share_scale(x$obs)
   along <- c(x_names, "point order")
   rows <- lapply(along, function(a) {
     data.frame(along = a, position = if (a == "point order") x$point else x[[a]],
-               point = x$point, mean = share(x$residual_mean), lower = share(x$residual_lower),
-               upper = share(x$residual_upper), flag = x$flag)
+               point = x$point, mean = share(x$residual_mean), lower = share(x$band_lower),
+               upper = share(x$band_upper), flag = x$flag)
   })
   out <- do.call(rbind, rows)
   out$along <- factor(out$along, levels = along)

@@ -14,6 +14,8 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
                           args, progress, on_failure, call = rlang::caller_env()) {
   args$refresh <- args$refresh %||% max(1L, iter %/% 50L)
   run <- function(k, log) {
+    # a list of starting values has one element per chain
+    if (is.list(args$init)) args$init <- args$init[k]
     run_chain(c(list(model, data = stan_data, chains = 1L, chain_id = k, iter = iter,
                      warmup = warmup, seed = seed, cores = 1L, control = control), args), log)
   }

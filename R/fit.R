@@ -79,13 +79,13 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   check_count(iter)
   check_count(cores)
   if (!isTRUE(checkmate::check_count(warmup)) || warmup >= iter) {
-    abort_bayesbem(c("{.arg warmup} must be a whole number from 0 to {.arg iter} - 1 ({iter - 1}).",
-                     x = "It is {.val {format(warmup)}}."),
+    abort_bayesbem("{.arg warmup} must be a whole number from 0 to {.arg iter} - 1 ({iter - 1}), not {describe_value(warmup)}.",
                    "argument")
   }
   seed <- seed %||% sample.int(.Machine$integer.max, 1L)
   check_count(seed)
   structure <- choose_structure(data, match_choice(structure), predict_at)
+  check_bool(progress)
   check_modular(modular, structure)
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
@@ -99,7 +99,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                   structure)
   model <- if (modular) stanmodels$koh_modular else
     if (structure == "grid") stanmodels$koh_grid else stanmodels$koh
-  label <- sprintf("%sampling %d chain%s", if (modular) "Stage 2: s" else "S", chains,
+  label <- sprintf("%s %d chain%s", if (modular) "Stage 2: sampling" else "Sampling", chains,
                    if (chains > 1L) "s" else "")
   stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label), sampler))
   fit <- new_koh_fit(stanfit, data = data, priors = priors,
@@ -112,10 +112,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
 }
 
 check_modular <- function(modular, structure, call = rlang::caller_env()) {
-  if (!rlang::is_bool(modular)) {
-    abort_bayesbem("{.arg modular} must be {.code TRUE} or {.code FALSE}, not {describe_value(modular)}.",
-                   "argument", call = call)
-  }
+  check_bool(modular, call = call)
   if (modular && structure != "grid") {
     abort_bayesbem(c("The modular fit needs a grid design: every simulation run at every field input.",
                      i = "Use {.code modular = FALSE}, or run the simulator at the field inputs (see {.fn simulate_design})."),

@@ -22,9 +22,9 @@
 #'   the Gamma priors on the emulator, discrepancy and noise precisions.
 #' @param gamma_sd Standard deviation of the normal(0, sd) prior on the
 #'   coefficients of parametric discrepancy terms (see [extend()]), on the
-#'   standardised output scale per unit of the covariate scaled to \[-1, 1\]:
-#'   `1` lets a term move the output by about one standard deviation of the
-#'   simulations.
+#'   standardised output scale per range of the covariate (its largest
+#'   minus its smallest value): `1` lets a term move the output across the
+#'   covariate's range by about one standard deviation of the simulations.
 #' @param emulator_mean The mean `h(x, t)' b` of the emulator (Kennedy and
 #'   O'Hagan 2001): `"linear"` (a constant plus a linear term in every
 #'   observable input and calibration parameter, on their scaled ranges),

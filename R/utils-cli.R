@@ -22,6 +22,15 @@ check_count <- function(x, arg = rlang::caller_arg(x), call = rlang::caller_env(
   invisible(x)
 }
 
+# Checks that `x` is TRUE or FALSE.
+check_bool <- function(x, arg = rlang::caller_arg(x), call = rlang::caller_env()) {
+  if (!rlang::is_bool(x)) {
+    abort_bayesbem("{.arg {arg}} must be {.code TRUE} or {.code FALSE}, not {describe_value(x)}.",
+                   "argument", call = call)
+  }
+  invisible(x)
+}
+
 # Checks that `x` is one finite number, non-negative or, with
 # `positive = TRUE`, positive; `type` is the error subclass.
 check_number <- function(x, type, positive = FALSE, arg = rlang::caller_arg(x),

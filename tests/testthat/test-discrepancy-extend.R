@@ -37,3 +37,14 @@ test_that("extend() checks what it is given", {
                class = "bayesbem_error_covariates")
   expect_error(extend(1, with = "rh"), class = "bayesbem_error_argument")
 })
+
+test_that("covariates are divided by their range, not centred", {
+  d <- koh_data(seb_field, seb_sim)
+  working <- data.frame(working_days = c(21, 20, 21, 22, 23, 20, 23, 22, 21, 23, 20, 21))
+  ext <- bayesbem:::add_discrepancy_terms(d, working)
+  expect_equal(ext$h_scale, c(working_days = 3))
+  expect_equal(drop(ext$h), working$working_days / 3)
+  # the same covariate in other units gets the same prior strength
+  hours <- bayesbem:::add_discrepancy_terms(d, data.frame(working_days = working$working_days * 8))
+  expect_equal(hours$h, ext$h)
+})

@@ -7,7 +7,10 @@ test_that("discrepancy() gives delta and the simulator residual at every field p
   expect_equal(nrow(d), 12)
   expect_equal(d$obs, seb_field$y)
   expect_true(all(d$delta_lower <= d$delta_mean & d$delta_mean <= d$delta_upper))
-  expect_equal(d$flag, d$residual_lower > 0 | d$residual_upper < 0)
+  expect_equal(d$flag, d$band_lower > 0 | d$band_upper < 0)
+  # the simultaneous band is wider than every pointwise interval
+  expect_true(all(d$band_lower <= d$residual_lower & d$band_upper >= d$residual_upper))
+  expect_gt(attr(d, "critical"), stats::qnorm(0.95))
   expect_equal(d$delta_share, 100 * d$delta_mean / d$obs)
   # the residual is y - eta for the same posterior draws of eta
   draws <- withr::with_seed(11, bayesbem:::predict_draws(fit, seb_field[2:4], ndraws = 300))
@@ -47,4 +50,24 @@ test_that("plot_discrepancy() draws", {
   skip_if_not_installed("vdiffr")
   withr::local_seed(12)
   vdiffr::expect_doppelganger("discrepancy", plot_discrepancy(discrepancy(seb_fit, ndraws = 100)))
+})
+
+test_that("the simultaneous band holds its level over all points at once", {
+  # 20 independent standard normal points: a pointwise 90 % interval misses
+  # some point in most draws, the band in 10 % of them
+  withr::local_seed(8)
+  draws <- matrix(rnorm(4000 * 20), 4000, 20)
+  band <- bayesbem:::simultaneous_band(draws, 0.9)
+  expected <- qnorm((1 + 0.9^(1 / 20)) / 2)  # Sidak: P(max |z| < c) = 0.9
+  expect_equal(band$critical, expected, tolerance = 0.02)
+  fresh <- matrix(rnorm(4000 * 20), 4000, 20)
+  outside <- apply(fresh, 1, function(z) any(z < band$lower | z > band$upper))
+  expect_equal(mean(outside), 0.1, tolerance = 0.15)
+})
+
+test_that("shares stay finite where the output is near zero", {
+  obs <- c(1000, 800, 0, 5, 900)
+  scale <- bayesbem:::share_scale(obs)
+  expect_equal(scale, c(1000, 800, 0.1 * mean(obs), 0.1 * mean(obs), 900))
+  expect_true(all(is.finite(100 / scale)))
 })

@@ -46,3 +46,13 @@ test_that("a chain whose process fails is a classed error", {
   expect_error(bayesbem:::collect_chains(results, identity, NULL), "out of memory",
                class = "bayesbem_error_sampling")
 })
+
+test_that("a list of starting values gives each chain its own", {
+  skip_on_cran()
+  starts <- list(list(tf = c(0.2, 0.2, 0.2)), list(tf = c(0.8, 0.8, 0.8)))
+  fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 2, iter = 20, seed = 1,
+                                    init = starts),
+                          classes = "bayesbem_warning_convergence")
+  expect_equal(lapply(fit$stanfit@inits, function(i) as.vector(i$tf)),
+               list(rep(0.2, 3), rep(0.8, 3)))
+})
