@@ -49,13 +49,11 @@ modular_stan_data <- function(data, priors, emulator) {
   beta_x <- emulator$beta_eta[seq_len(p)]
   beta_t <- emulator$beta_eta[-seq_len(p)]
   E <- matrix(data$eta[grid$index], grid$n_x)[seq_len(n), , drop = FALSE]
-  mean_f <- outer(coef[1] + drop(xf %*% coef[1 + seq_len(p)]),
-                  drop(grid$design %*% coef[-seq_len(1 + p)]), "+")
   kt <- jittered_cor(pair_geometry(grid$design, grid$design), beta_t, priors$nugget)
   c(list(n = n, mt = grid$mt, p = p, q = data$q, y = data$y, xf = xf, tc = grid$design),
     koh_prior_data(data, priors),
     list(beta_eta_fixed = as.array(emulator$beta_eta), lambda_eta_fixed = emulator$lambda_eta,
-         b_fixed = as.array(emulator$b), E_f = E - mean_f,
+         b_fixed = as.array(emulator$b), E_f = E - grid_mean(xf, grid$design, coef),
          Kx_ff = jittered_cor(pair_geometry(xf, xf), beta_x, priors$nugget),
          Lt = t(chol(kt))))
 }

@@ -143,6 +143,13 @@ emulator_mean <- function(x, t, coef) {
   drop(coef[1] + x %*% coef[1 + seq_len(ncol(x))] + tc %*% coef[-seq_len(1 + ncol(x))])
 }
 
+# The emulator mean on a grid, element (i, a) at grid input i and run a
+# (koh_functions.stan's grid_mean()).
+grid_mean <- function(x_grid, tc, coef) {
+  p <- ncol(x_grid)
+  outer(coef[1] + drop(x_grid %*% coef[1 + seq_len(p)]), drop(tc %*% coef[-seq_len(1 + p)]), "+")
+}
+
 # The geometry with the draw's emulator mean taken off the data (field
 # outputs at tf, simulation outputs at their runs), which is what the
 # Gaussian processes model; `mean_new`, the mean at the new rows, is added
@@ -152,11 +159,9 @@ residual_geometry <- function(g, par) {
   if (all(par$coef == 0)) {
     return(g)
   }
-  coef_x <- par$coef[1 + seq_len(g$p)]
-  coef_t <- par$coef[-seq_len(1 + g$p)]
   g$y <- g$y - emulator_mean(g$xf, par$tf, par$coef)
   if (g$structure == "grid") {
-    g$E <- g$E - outer(par$coef[1] + drop(g$x_grid %*% coef_x), drop(g$tc %*% coef_t), "+")
+    g$E <- g$E - grid_mean(g$x_grid, g$tc, par$coef)
   } else {
     g$eta <- g$eta - emulator_mean(g$xc, g$tc, par$coef)
   }
