@@ -44,6 +44,12 @@ grid_layout <- function(xf, xc, tc, tol = 0) {
        max_diff = max(c(0, gap[matched])))
 }
 
+# The scaled simulation outputs of a grid design as a matrix: run a at grid
+# input i in element (i, a).
+grid_runs <- function(data) {
+  matrix(data$eta[data$grid$index], data$grid$n_x)
+}
+
 # Exact keys of matrix rows (hexadecimal doubles), so that rows match only
 # when every value is identical, as Stan's equal_rows() requires.
 row_keys <- function(x) {

@@ -17,15 +17,21 @@ emulator_rows <- function(grid, max_inputs = 60L) {
   unique(round(seq(1, grid$n_x, length.out = max_inputs)))
 }
 
+# The data of koh_emulator.stan: the grid program's, on emulator_rows() of the
+# grid inputs (the field outputs are not used).
+emulator_stan_data <- function(data, priors) {
+  stan_data <- koh_stan_data(data, priors, structure = "grid")
+  rows <- emulator_rows(data$grid)
+  stan_data$n_x <- length(rows)
+  stan_data$eta <- stan_data$eta[rows, , drop = FALSE]
+  stan_data$x_grid <- stan_data$x_grid[rows, , drop = FALSE]
+  stan_data
+}
+
 # Samples stage 1 and returns its stanfit and the emulator estimate: the
 # posterior medians of beta_eta, lambda_eta and b.
 fit_emulator <- function(data, priors, sampler) {
-  grid <- data$grid
-  rows <- emulator_rows(grid)
-  stan_data <- c(list(n = data$n, n_x = length(rows), mt = grid$mt, p = data$p, q = data$q,
-                      eta = matrix(data$eta[grid$index], grid$n_x)[rows, , drop = FALSE],
-                      x_grid = grid$x[rows, , drop = FALSE], tc = grid$design),
-                 koh_prior_data(data, priors))
+  stan_data <- emulator_stan_data(data, priors)
   stanfit <- do.call(sample_chains, c(list(stanmodels$koh_emulator, stan_data,
                                            label = "Stage 1: emulator"), sampler))
   pars <- c("beta_eta", "lambda_eta", if (stan_data$n_b > 0L) "b")
@@ -48,7 +54,7 @@ modular_stan_data <- function(data, priors, emulator) {
   if (length(coef) == 0L) coef <- numeric(1 + p + data$q)
   beta_x <- emulator$beta_eta[seq_len(p)]
   beta_t <- emulator$beta_eta[-seq_len(p)]
-  E <- matrix(data$eta[grid$index], grid$n_x)[seq_len(n), , drop = FALSE]
+  E <- grid_runs(data)[seq_len(n), , drop = FALSE]
   kt <- jittered_cor(pair_geometry(grid$design, grid$design), beta_t, priors$nugget)
   c(list(n = n, mt = grid$mt, p = p, q = data$q, y = data$y, xf = xf, tc = grid$design),
     koh_prior_data(data, priors),

@@ -199,7 +199,7 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
   if (structure == "grid") {
     grid <- data$grid
     return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = data$q, y = data$y,
-                  eta = matrix(data$eta[grid$index], grid$n_x), x_grid = grid$x,
+                  eta = grid_runs(data), x_grid = grid$x,
                   tc = grid$design),
              prior_data))
   }
@@ -240,6 +240,7 @@ koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
     mu[k] <- (pr$mu - lo) / (hi - lo)
     sd[k] <- pr$sd
   }
+  b_select <- mean_selection(priors, data$p, q)
   list(
     tf_is_normal = as.array(is_normal), tf_mu = as.array(mu), tf_sd = as.array(sd),
     rho_eta_a = priors$rho_eta[1], rho_eta_b = priors$rho_eta[2],
@@ -251,8 +252,8 @@ koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
     n_h = ncol(discrepancy_design(data)),
     h = discrepancy_design(data),
     gamma_sd = priors$gamma_sd %||% 1,
-    n_b = ncol(mean_selection(priors, data$p, q)),
-    b_select = mean_selection(priors, data$p, q),
+    n_b = ncol(b_select),
+    b_select = b_select,
     b_sd = priors$mean_sd %||% 1
   )
 }

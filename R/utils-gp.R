@@ -38,7 +38,7 @@ gp_geometry <- function(data, x_new = NULL, structure = "dense") {
   if (structure == "grid") {
     grid <- data$grid
     g$tc <- grid$design
-    g$E <- matrix(data$eta[grid$index], grid$n_x)
+    g$E <- grid_runs(data)
     g$x_grid <- grid$x
     g$tt <- pair_geometry(g$tc, g$tc)
     g$xx <- pair_geometry(grid$x, grid$x)

@@ -31,11 +31,7 @@ for (n in ns) {
   params <- sim$parameters[sim$parameters$parameter %in% names(truth), ]
   d <- koh_data(field, simulate_design(sim, design_lhs(params, n = mt, seed = 2)))
   grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
-  keep <- bayesbem:::emulator_rows(d$grid)
-  stage1 <- grid[setdiff(names(grid), "y")]
-  stage1$n_x <- length(keep)
-  stage1$eta <- grid$eta[keep, , drop = FALSE]
-  stage1$x_grid <- grid$x_grid[keep, , drop = FALSE]
+  stage1 <- bayesbem:::emulator_stan_data(d, priors)
   emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1, b = rep(0, grid$n_b))
   stage2 <- bayesbem:::modular_stan_data(d, priors, emulator)
   rows[[length(rows) + 1L]] <- data.frame(
