@@ -1,35 +1,56 @@
 #' EnergyPlus as a simulator
 #'
-#' Wraps an EnergyPlus model as a simulator: each run copies the IDF, sets
-#' the fields the parameter map names, runs EnergyPlus on the weather file,
-#' and returns a monthly meter in kWh (one value per month of the run
-#' period), with the observable inputs `temp`, `rh` and `solar` of
-#' [epw_monthly()] for the same weather, as in [seb_field].
+#' Wraps an EnergyPlus model as a simulator: each run sets the fields the
+#' parameter map names and applies the measures, runs EnergyPlus on the
+#' weather file (see [eplus_run()]) and returns one output per field period:
+#' a meter or output variable reported daily, over the weather-file run
+#' period only, summed over each period (energy, in kWh) or averaged
+#' (temperatures, rates). The periods are the weather's months, weeks or
+#' days (`by`, as in [epw_weather()]), and the observable inputs `temp`,
+#' `rh` and `solar` are that weather's means over them, as in [seb_field].
 #'
-#' The map ([eplus_parameter_map()]) has one row per IDF field a parameter
-#' sets: `parameter`, `object_type`, `object_name`, `field` (the field's name
-#' in the IDD, any case) and `apply`: `"value"` sets the field to the
+#' The map ([eplus_parameter_map()]) has one row per field a parameter sets:
+#' `parameter`, `object_type`, `object_name`, `field` (its name in the IDD,
+#' any case, or its epJSON key) and `apply`: `"value"` sets the field to the
 #' parameter's value, `"multiply"` to the original value times it (e.g. a
 #' density multiplier), `"divide"` to the original value divided by it (an
-#' R-value multiplier acting on conductivity). Field positions are looked up
-#' in the `Energy+.idd` of the EnergyPlus installation, so the IDF's
-#' comments do not matter.
+#' R-value multiplier acting on conductivity). A field that acts only under
+#' a calculation method (e.g. `Watts per Floor Area` of `Lights` under
+#' `Watts/Area`) is set together with its method when `apply` is `"value"`
+#' and refused otherwise. What a field cannot express goes in a measure, as
+#' eplusr calls it: `measures` is a named list of functions
+#' `function(model, value)` returning the model edited for the named
+#' parameter's value (with [eplus_set()], [eplus_add()]); such parameters
+#' need a row in `parameters`. When the simulator is made, EnergyPlus checks
+#' every mapped field at both ends of the parameter ranges.
 #'
-#' EnergyPlus is found by [eplus_path()]. The IDF must be of the same
-#' version as EnergyPlus (convert older files with EnergyPlus's
-#' IDFVersionUpdater). A run that ends with a fatal error fails with an
-#' error of class `bayesbem_error_eplus_run` quoting EnergyPlus's error
-#' file; [simulate_design()] keeps such runs apart.
+#' The model must be of the installed EnergyPlus's version. Missing outputs
+#' are added (the daily meter or variable, `Output:SQLite`). A run that
+#' fails or takes longer than `timeout` seconds is an error of class
+#' `bayesbem_error_eplus_run` quoting EnergyPlus's severe and fatal
+#' messages; [simulate_design()] keeps such runs apart. Runs are cached (with
+#' `cache_dir`) under a key covering the model, the weather, the map, the
+#' measures, the files the model reads and the parameter values.
 #'
-#' @param idf Path of the EnergyPlus model (`.idf`, or `.idf.gz`). Defaults
-#'   to the shipped case-study building (EnergyPlus 25.2).
+#' @param model An EnergyPlus model from [eplus_model()], or the path of
+#'   one (`.idf`, `.epJSON`). Defaults to the shipped case-study building
+#'   (EnergyPlus 25.2).
 #' @param weather Path of the EPW weather file (or `.epw.gz`).
-#' @param parameters A parameter table (see [bem_parameters()]) of the
-#'   mapped parameters; by default the study's 14, from the map.
-#' @param map The parameter map, see Details.
-#' @param meter Name of a monthly `Output:Meter` of the model.
+#' @param parameters A parameter table (see [bem_parameters()]); by default
+#'   the parameters of the map, with their ranges.
+#' @param map The parameter map (see Details), or `NULL` when only measures
+#'   set parameters.
+#' @param measures A named list of functions `function(model, value)`.
+#' @param output Name of a meter (`"Electricity:Facility"`,
+#'   `"NaturalGas:Facility"`) or output variable (`"Zone Mean Air
+#'   Temperature"`).
+#' @param key For an output variable reported for several objects, which one
+#'   (e.g. a zone name).
+#' @param by Field periods: `"month"`, `"week"` or `"day"`.
+#' @param timeout Time limit of each run, in seconds.
 #' @param eplus Directory of EnergyPlus, see [eplus_path()].
 #' @return A `bayesbem_simulator`.
+#' @family EnergyPlus
 #' @family simulation
 #' @export
 #' @examples
@@ -40,32 +61,57 @@
 #'   simulate_design(sim, data.frame(equipment_power_density = c(10, 20)))
 #' }
 #' }
-eplus_simulator <- function(idf = system.file("extdata", "seb_25_2.idf.gz", package = "bayesbem"),
+eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", package = "bayesbem"),
                             weather, parameters = NULL, map = eplus_parameter_map(),
-                            meter = "Electricity:Facility", eplus = NULL) {
-  dir <- eplus_path(eplus)
-  version <- eplus_version(dir)
-  check_file(idf, "idf")
+                            measures = list(), output = "Electricity:Facility", key = NULL,
+                            by = c("month", "week", "day"), timeout = 600, eplus = NULL) {
+  by <- match_choice(by)
+  eplus <- eplus_path(eplus)
   check_file(weather, "weather")
-  model <- read_idf(idf)
-  check_idf_version(model, version, idf)
-  map <- check_parameter_map(map, model, file.path(dir, "Energy+.idd"))
-  parameters <- parameters %||% map_parameters(map)
-  missing <- setdiff(parameters$parameter, map$parameter)
-  if (length(missing) > 0L) {
-    abort_bayesbem(c("{.arg parameters} has {.field {missing}}, which {.arg map} does not map to the model.",
-                     i = "Add rows for {?it/them} to {.arg map}."),
+  check_number(timeout, "argument", positive = TRUE)
+  if (!inherits(model, "bayesbem_eplus_model")) model <- eplus_model(model, eplus)
+  map <- if (is.null(map)) empty_map() else check_parameter_map(map, model)
+  parameters <- check_parameter_table(parameters %||% map_parameters(map))
+  check_measures(measures, parameters)
+  unset <- setdiff(parameters$parameter, c(map$parameter, names(measures)))
+  if (length(unset) > 0L) {
+    abort_bayesbem(c("{.arg parameters} has {.field {unset}}, which neither {.arg map} nor {.arg measures} sets.",
+                     i = "Add rows for {.field {unset}} to {.arg map}, or a measure."),
                    "parameters")
   }
-  epw <- epw_monthly(weather)
-  x <- data.frame(temp = epw$temp, rh = epw$rh, solar = epw$dni)
-  fun <- function(params, x) {
-    run_eplus(set_idf_fields(model, map, params), weather, dir, meter, nrow(x))
+  model <- with_sqlite(with_daily_output(model, output))
+  for (end in c("min", "max")) {
+    at <- stats::setNames(as.list(parameters[[end]]), parameters$parameter)
+    check_model_fields(apply_parameters(model, map, measures, at), eplus)
   }
-  name <- sprintf("EnergyPlus %s: %s (%s), %s (kWh)", version, basename(idf),
-                  substr(rlang::hash(model), 1, 8), meter)
+  days <- weather_days(weather, by)
+  periods <- epw_weather(weather, by)
+  x <- data.frame(temp = periods$temp, rh = periods$rh, solar = periods$dni)
+  fun <- function(params, x) {
+    dir <- tempfile("eplus-run-")
+    on.exit(unlink(dir, recursive = TRUE), add = TRUE)
+    run <- run_model(apply_parameters(model, map, measures, params), weather, eplus, dir, timeout)
+    aggregate_daily(eplus_output(run, output, key), days)
+  }
+  name <- sprintf("EnergyPlus %s: %s, %s by %s", model$version, basename(model$source), output, by)
   simulator(fun, x, parameters, name = name,
-            key = list(model, unname(tools::md5sum(weather)), map, meter, version))
+            key = list(unname(tools::md5sum(weather)), model_files_md5(model)))
+}
+
+empty_map <- function() {
+  data.frame(parameter = character(), object_type = character(), object_name = character(),
+             field = character(), apply = character(), original = numeric(),
+             method_field = character(), method_value = character())
+}
+
+# The contents of the files a model reads (Schedule:File and the like), so
+# that the cache sees a changed schedule file.
+model_files_md5 <- function(model) {
+  files <- as.character(unlist(lapply(model$json, function(objects) {
+    lapply(objects, function(o) if (is.character(o$file_name)) o$file_name)
+  })))
+  files <- files[file.exists(files)]
+  unname(tools::md5sum(files))
 }
 
 #' Find EnergyPlus
@@ -162,61 +208,4 @@ check_file <- function(path, arg, call = rlang::caller_env()) {
                      x = "{.path {path}} does not exist."),
                    "file", call = call)
   }
-}
-
-# Runs EnergyPlus on `model` in a fresh directory and returns the monthly
-# meter in kWh.
-run_eplus <- function(model, weather, dir, meter, n_periods, call = rlang::caller_env()) {
-  run_dir <- tempfile("eplus-")
-  dir.create(run_dir)
-  on.exit(unlink(run_dir, recursive = TRUE), add = TRUE)
-  idf_path <- file.path(run_dir, "in.idf")
-  write_idf(model, idf_path)
-  epw_path <- plain_epw(weather, run_dir)
-  log <- suppressWarnings(system2(eplus_exe(dir), c("-w", shQuote(epw_path), "-d", shQuote(run_dir),
-                                                     "-r", shQuote(idf_path)),
-                                  stdout = TRUE, stderr = TRUE))
-  end <- file.path(run_dir, "eplusout.end")
-  if (!file.exists(end) || !grepl("Completed Successfully", readLines(end, warn = FALSE)[1])) {
-    err <- file.path(run_dir, "eplusout.err")
-    severe <- if (file.exists(err)) grep("\\*\\* +(Severe|Fatal) +\\*\\*", readLines(err, warn = FALSE),
-                                         value = TRUE)
-    # the error file's severe lines, or else the end of EnergyPlus's output
-    lines <- utils::head(trimws(if (length(severe) > 0L) severe else utils::tail(log, 3)), 5)
-    abort_bayesbem(c("EnergyPlus ended with an error.",
-                     stats::setNames(lines, rep("x", length(lines))),
-                     i = "Check the model and the parameter values of this run."),
-                   "eplus_run", call = call)
-  }
-  read_monthly_meter(file.path(run_dir, "eplusmtr.csv"), meter, n_periods, call = call)
-}
-
-# EnergyPlus reads plain files only: a `.gz` weather file is decompressed
-# into the run directory (readLines() reads gzip itself); others are used
-# where they are.
-plain_epw <- function(path, run_dir) {
-  if (!grepl("\\.gz$", path)) {
-    return(path)
-  }
-  to <- file.path(run_dir, "in.epw")
-  writeLines(readLines(path, warn = FALSE), to)
-  to
-}
-
-# The monthly values of `meter` from ReadVarsESO's eplusmtr.csv, J to kWh.
-read_monthly_meter <- function(path, meter, n_periods, call = rlang::caller_env()) {
-  table <- utils::read.csv(path, check.names = FALSE)
-  col <- which(startsWith(names(table), paste0(meter, " [J](Monthly)")))
-  if (length(col) != 1L) {
-    abort_bayesbem(c("The model reports no monthly meter {.val {meter}}.",
-                     i = "Add {.code Output:Meter, {meter}, Monthly;} to the IDF, or pick one of: {.val {names(table)[-1]}}."),
-                   "eplus_run", call = call)
-  }
-  kwh <- table[[col]] / 3.6e6
-  if (length(kwh) != n_periods) {
-    abort_bayesbem(c("EnergyPlus reported {length(kwh)} month{?s}, but the weather has {n_periods}.",
-                     i = "Make the model's {.code RunPeriod} cover the weather file's months."),
-                   "eplus_run", call = call)
-  }
-  kwh
 }

@@ -51,7 +51,13 @@ simulator_key <- function(sim) {
   values <- mget(used, envir = environment(fun), inherits = TRUE,
                  ifnotfound = rep(list(NULL), length(used)))
   values <- Filter(Negate(is.environment), values)
-  list(sim$key, deparse(fun), lapply(values, function(v) if (is.function(v)) deparse(v) else v))
+  list(sim$key, deparse(fun), lapply(values, key_value))
+}
+
+# A value as the cache key sees it: functions by their code, also inside
+# lists (e.g. a list of measures).
+key_value <- function(v) {
+  if (is.function(v)) deparse(v) else if (is.list(v) && !is.object(v)) lapply(v, key_value) else v
 }
 
 #' @export

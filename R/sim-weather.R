@@ -43,10 +43,8 @@ epw_weather <- function(epw_path, by = c("month", "week", "day"), base_heating =
   check_number(base_heating, "argument")
   check_number(base_cooling, "argument")
   hourly <- read_epw_hourly(epw_path)
-  # days and months in the order of the records: a new one where the field changes
-  new_run <- function(v) cumsum(c(TRUE, v[-1] != v[-length(v)]))
-  day <- new_run(hourly$month * 100 + hourly$day)
-  period <- switch(by, month = new_run(hourly$month), week = (day - 1L) %/% 7L + 1L, day = day)
+  day <- record_days(hourly)
+  period <- record_periods(hourly, day, by)
   daily_temp <- tapply(hourly$temp, day, mean, na.rm = TRUE)
   day_period <- tapply(period, day, `[`, 1)
   first <- !duplicated(period)
@@ -86,6 +84,25 @@ epw_monthly <- function(epw_path, base_heating = 18.3, base_cooling = 18.3) {
 #' @export
 epw_daily <- function(epw_path, base_heating = 18.3, base_cooling = 18.3) {
   epw_weather(epw_path, "day", base_heating = base_heating, base_cooling = base_cooling)
+}
+
+# Days and months in the order of the records: a new one where the field
+# changes; weeks are seven days from the first record.
+record_days <- function(hourly) new_run(hourly$month * 100 + hourly$day)
+
+record_periods <- function(hourly, day, by) {
+  switch(by, month = new_run(hourly$month), week = (day - 1L) %/% 7L + 1L, day = day)
+}
+
+new_run <- function(v) cumsum(c(TRUE, v[-1] != v[-length(v)]))
+
+# Each day of an EPW file (month, day) with its period, in order.
+weather_days <- function(epw_path, by) {
+  hourly <- read_epw_hourly(epw_path)
+  day <- record_days(hourly)
+  first <- !duplicated(day)
+  data.frame(month = hourly$month[first], day = hourly$day[first],
+             period = record_periods(hourly, day, by)[first])
 }
 
 # The hourly records of an EPW file with missing-value codes set to NA.

@@ -7,6 +7,23 @@ skip_if_no_eplus <- function() {
 }
 
 # The shipped model's EnergyPlus simulator on the 2013 weather.
-seb_eplus <- function() {
-  eplus_simulator(weather = shipped_epw(2013))
+seb_eplus <- function(...) {
+  eplus_simulator(weather = shipped_epw(2013), ...)
+}
+
+seb_model <- function() {
+  eplus_model(system.file("extdata", "seb_25_2.idf.gz", package = "bayesbem"))
+}
+
+# A model of the shared EnergyPlus folder's examples (skips when absent).
+example_model_path <- function(file) {
+  skip_if_no_eplus()
+  path <- file.path(eplus_path(), "examples", file)
+  if (!file.exists(path)) testthat::skip(paste("no", path))
+  path
+}
+
+# Annual totals of a simulation table, by run.
+run_totals <- function(table, runs) {
+  as.vector(tapply(table$eta, rep(seq_len(runs), each = nrow(table) / runs), sum))
 }

@@ -11,61 +11,131 @@ test_that("the shipped model runs in EnergyPlus and responds to its parameters",
   expect_s3_class(sim, "bayesbem_simulator")
   expect_equal(nrow(sim$parameters), 14)
   out <- simulate_design(sim, data.frame(equipment_power_density = c(21.9, 10)))
-  annual <- tapply(out$eta, out$equipment_power_density, sum)
+  annual <- run_totals(out, 2)
   # the base model's annual electricity (models/README.md: 25,085 kWh)
-  expect_equal(annual[["21.9"]], 25085, tolerance = 1e-3)
-  expect_lt(annual[["10"]], annual[["21.9"]] - 3000)
+  expect_equal(annual[1], 25085, tolerance = 1e-3)
+  expect_lt(annual[2], annual[1] - 3000)
   expect_equal(out[1:12, c("temp", "rh")], seb_field[c("temp", "rh")], ignore_attr = TRUE)
 })
 
-test_that("the parameter map is checked against the model and the IDD", {
+test_that("everyday model changes leave the monthly electricity as it was", {
+  skip_if_no_eplus()
+  base <- simulate_design(seb_eplus(), data.frame(cooling_setpoint = c(23.9, 22)))
+  model <- seb_model()
+  # sizing periods simulated, hourly and daily meters added
+  busy <- eplus_set(model, "SimulationControl", "SimulationControl 1",
+                    `Run Simulation for Sizing Periods` = "Yes")
+  busy <- eplus_add(busy, "Output:Meter", key_name = "Electricity:Facility",
+                    reporting_frequency = "Hourly")
+  busy <- eplus_add(busy, "Output:Meter", key_name = "InteriorLights:Electricity",
+                    reporting_frequency = "Daily")
+  expect_equal(simulate_design(seb_eplus(model = busy), data.frame(cooling_setpoint = c(23.9, 22)))$eta,
+               base$eta, tolerance = 1e-6)
+  # the cooling setpoint moved to a Schedule:Compact that a measure sets
+  compact <- eplus_add(model, "Schedule:Compact", "Cooling Setpoint Compact",
+                       schedule_type_limits_name = "Thermostat Cooling Setpoint Schedule Type Limits",
+                       data = list(list(field = "Through: 12/31"),
+                                   list(field = "For: SummerDesignDay WinterDesignDay"),
+                                   list(field = "Until: 24:00"), list(field = 22.7777777777778),
+                                   list(field = "For: AllOtherDays"),
+                                   list(field = "Until: 24:00"), list(field = 23.9)))
+  compact <- eplus_set(compact, "ThermostatSetpoint:DualSetpoint", "Single zone Thermostat",
+                       `Cooling Setpoint Temperature Schedule Name` = "Cooling Setpoint Compact")
+  measure <- list(cooling_setpoint = function(model, value) {
+    eplus_set(model, "Schedule:Compact", "Cooling Setpoint Compact", `Field 7` = value)
+  })
+  map <- eplus_parameter_map()
+  sim <- seb_eplus(model = compact, map = map[!startsWith(map$parameter, "cooling"), ],
+                   measures = measure, parameters = seb_eplus()$parameters)
+  expect_equal(simulate_design(sim, data.frame(cooling_setpoint = c(23.9, 22)))$eta, base$eta,
+               tolerance = 1e-6)
+  # a Schedule:File with a relative path, read from the model's folder, in
+  # place of the constant activity-level schedule
+  folder <- withr::local_tempdir()
+  writeLines(as.character(rep(139.882806752418, 8760)), file.path(folder, "activity.csv"))
+  filed <- eplus_del(model, "Schedule:Constant", "Schedule Constant 1")
+  filed <- eplus_add(filed, "Schedule:File", "Schedule Constant 1", file_name = "activity.csv",
+                     column_number = 1, rows_to_skip_at_top = 0,
+                     schedule_type_limits_name = "ActivityLevel")
+  eplus_save(filed, file.path(folder, "model.idf"))
+  withr::with_dir(tempdir(), {
+    sim <- seb_eplus(model = file.path(folder, "model.idf"))
+    expect_equal(simulate_design(sim, data.frame(cooling_setpoint = 23.9))$eta, base$eta[1:12],
+                 tolerance = 1e-6)
+  })
+})
+
+test_that("the parameter map is checked by EnergyPlus at both ends of the ranges", {
   skip_if_no_eplus()
   map <- eplus_parameter_map()
   map$object_name[1] <- "No Such Schedule"
+  expect_snapshot(seb_eplus(map = map), error = TRUE)
+  map <- eplus_parameter_map()
   map$field[5] <- "Fan Efficiency"
-  expect_snapshot(eplus_simulator(weather = shipped_epw(2013), map = map), error = TRUE)
+  expect_snapshot(seb_eplus(map = map), error = TRUE)
+  map <- eplus_parameter_map()
+  map$min[map$parameter == "fan_total_efficiency"] <- -0.5
+  expect_error(seb_eplus(map = map), class = "bayesbem_error_eplus_run")
   map <- eplus_parameter_map()
   map$apply[1] <- "add"
-  expect_error(eplus_simulator(weather = shipped_epw(2013), map = map),
+  expect_error(seb_eplus(map = map), class = "bayesbem_error_parameters")
+  expect_error(seb_eplus(measures = list(nothing = function(model, value) model)),
                class = "bayesbem_error_parameters")
 })
 
-test_that("wrong IDF versions and failed runs get classed errors", {
+test_that("a field that acts only under a calculation method is set with it or refused", {
   skip_if_no_eplus()
-  model <- bayesbem:::read_idf(system.file("extdata", "seb_25_2.idf.gz", package = "bayesbem"))
-  classes <- vapply(model, `[`, character(1), 1)
-  model[[which(classes == "Version")]][2] <- "23.1"
-  old <- withr::local_tempfile(fileext = ".idf")
-  bayesbem:::write_idf(model, old)
-  expect_error(eplus_simulator(old, weather = shipped_epw(2013)),
-               class = "bayesbem_error_eplus_version")
-  expect_snapshot(eplus_simulator(old, weather = shipped_epw(2013)), error = TRUE,
-                  transform = function(x) sub("file[0-9a-f]+\\.idf", "<file>.idf", x))
+  model <- eplus_set(seb_model(), "Lights", "AllLights",
+                     `Design Level Calculation Method` = "LightingLevel", `Lighting Level` = 5000)
+  map <- eplus_parameter_map()
+  expect_message(sim <- seb_eplus(model = model, map = map), "Watts/Area")
+  base <- simulate_design(seb_eplus(), data.frame(lighting_power_density = 10))
+  expect_equal(simulate_design(sim, data.frame(lighting_power_density = 10))$eta, base$eta,
+               tolerance = 1e-6)
+  map$apply[map$parameter == "lighting_power_density"] <- "multiply"
+  map[map$parameter == "lighting_power_density", c("initial", "min", "max")] <- list(1, 0.5, 1.5)
+  expect_snapshot(seb_eplus(model = model, map = map), error = TRUE)
+})
+
+test_that("a failed run keeps the others and quotes EnergyPlus; the cache sees the model", {
+  skip_if_no_eplus()
   sim <- seb_eplus()
   base <- stats::setNames(as.list(sim$parameters$initial), sim$parameters$parameter)
   expect_error(sim$fun(utils::modifyList(base, list(fan_total_efficiency = -1)), sim$x),
                class = "bayesbem_error_eplus_run")
+  slow <- seb_eplus(timeout = 0.5)
+  expect_warning(out <- simulate_design(slow, data.frame(equipment_power_density = 10)),
+                 class = "bayesbem_warning_simulation")
+  expect_match(attr(out, "failed")$error, "time limit")
+  cache <- withr::local_tempdir()
+  design <- data.frame(equipment_power_density = 15)
+  first <- simulate_design(sim, design, cache_dir = cache)
+  other <- seb_eplus(model = eplus_set(seb_model(), "Lights", "AllLights",
+                                       `Watts per Floor Area` = 5), map = eplus_parameter_map()[-27, ],
+                     parameters = sim$parameters[sim$parameters$parameter != "lighting_power_density", ])
+  second <- simulate_design(other, design, cache_dir = cache)
+  expect_lt(sum(second$eta), sum(first$eta) - 500)
 })
 
-test_that("Morris screening, a Latin hypercube and calibration run on EnergyPlus", {
-  skip_if_no_eplus()
-  skip_if_not_installed("sensitivity")
-  sim <- seb_eplus()
-  withr::local_options(future.rng.onMisuse = "ignore")
-  future::plan(future::multisession, workers = 2)
-  on.exit(future::plan(future::sequential), add = TRUE)
-  m <- screen_morris(sim, r = 2, seed = 1)
-  expect_equal(nrow(m), 14)
-  top <- m$parameter[m$rank <= 3]
-  # plug loads dominate the electricity of this building
-  expect_true("equipment_power_density" %in% top)
-  design <- design_lhs(sim$parameters[sim$parameters$parameter %in% top, ], n = 10, seed = 2)
-  table <- simulate_design(sim, design)
-  expect_equal(nrow(table), 120)
-  field <- data.frame(y = seb_field$y, sim$x)
-  fit <- suppressWarnings(calibrate(field, table, chains = 1, iter = 300, seed = 3, refresh = 0),
-                          classes = "bayesbem_warning_convergence")
-  expect_s3_class(fit, "koh_fit")
-  expect_equal(fit$settings$structure, "grid")
-  expect_setequal(summary(fit)$parameters$variable, top)
+test_that("a zone temperature is averaged over months and days (1ZoneUncontrolled)", {
+  path <- example_model_path("1ZoneUncontrolled_25_2.idf")
+  map <- data.frame(parameter = c("equipment_gain", "roof_r_value"),
+                    object_type = c("OtherEquipment", "Material:NoMass"),
+                    object_name = c("Test 352a", "R31LAYER"),
+                    field = c("Design Level", "Thermal Resistance"), apply = "value",
+                    initial = c(352, 5.456), min = c(0, 2), max = c(1500, 8))
+  monthly <- eplus_simulator(path, shipped_epw(2013), map = map, output = "Zone Mean Air Temperature")
+  daily <- eplus_simulator(path, shipped_epw(2013), map = map, output = "Zone Mean Air Temperature",
+                           by = "day")
+  design <- data.frame(equipment_gain = c(352, 1000))
+  m <- simulate_design(monthly, design)
+  d <- simulate_design(daily, design)
+  expect_equal(nrow(d), 2 * 365)
+  # monthly means are the day-weighted means of the daily means
+  days <- epw_monthly(shipped_epw(2013))$days
+  month <- rep(rep(seq_len(12), days), 2)
+  run <- rep(1:2, each = 365)
+  expect_equal(m$eta, as.vector(tapply(d$eta, list(month, run), mean)), tolerance = 1e-9)
+  # more internal gain, a warmer zone in every month
+  expect_true(all(m$eta[13:24] > m$eta[1:12] + 1))
 })

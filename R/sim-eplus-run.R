@@ -1,0 +1,184 @@
+#' Run an EnergyPlus model
+#'
+#' `eplus_run()` runs a model (see [eplus_model()]) on a weather file in a
+#' folder of its own, through processx with a time limit (`HVACTemplate:*`
+#' objects were expanded when the model was read): `Output:SQLite` is
+#' added when the model lacks it, and the fields of the model are checked by
+#' EnergyPlus's converter beforehand (a field name EnergyPlus does not know
+#' is an error, not silently dropped). `eplus_errors()` returns the
+#' warnings, severe and fatal errors of a run's `eplusout.err`, as eplusr's
+#' `$errors()` does.
+#'
+#' @param model A `bayesbem_eplus_model`.
+#' @param weather Path of the EPW weather file (or `.epw.gz`).
+#' @param dir Folder for the run's files; by default a new temporary folder.
+#' @param timeout Time limit of the run in seconds.
+#' @param eplus Directory of EnergyPlus, see [eplus_path()].
+#' @param run A `bayesbem_eplus_run` from `eplus_run()`.
+#' @return `eplus_run()`: a `bayesbem_eplus_run`, a list with the run's
+#'   `dir`, `ok` (whether EnergyPlus completed successfully), `sql` (path of
+#'   its SQLite output) and `time` (seconds). A run that fails or hits the
+#'   time limit is an error of class `bayesbem_error_eplus_run` quoting
+#'   EnergyPlus's severe and fatal messages. `eplus_errors()`: a data frame
+#'   with columns `level` (`"Warning"`, `"Severe"` or `"Fatal"`) and
+#'   `message` (continuation lines joined).
+#' @family EnergyPlus
+#' @export
+#' @examples
+#' \donttest{
+#' if (eplus_available()) {
+#'   model <- eplus_model(system.file("extdata", "seb_25_2.idf.gz", package = "bayesbem"))
+#'   run <- eplus_run(model, system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+#'   table(eplus_errors(run)$level)
+#'   eplus_output(run, "Electricity:Facility")
+#' }
+#' }
+eplus_run <- function(model, weather, dir = NULL, timeout = 600, eplus = NULL) {
+  check_eplus_model(model)
+  check_file(weather, "weather")
+  check_number(timeout, "argument", positive = TRUE)
+  eplus <- eplus_path(eplus)
+  check_model_fields(model, eplus)
+  run_model(with_sqlite(model), weather, eplus, dir, timeout)
+}
+
+#' @rdname eplus_run
+#' @export
+eplus_errors <- function(run) {
+  if (!inherits(run, "bayesbem_eplus_run")) {
+    abort_bayesbem("{.arg run} must be a run from {.fn eplus_run}, not {describe_value(run)}.",
+                   "argument")
+  }
+  read_err(file.path(run$dir, "eplusout.err"))
+}
+
+#' @export
+print.bayesbem_eplus_run <- function(x, ...) {
+  rlang::check_dots_empty()
+  errors <- eplus_errors(x)
+  cat_lines("{.cls bayesbem_eplus_run}: {if (x$ok) 'completed' else 'failed'} in {round(x$time, 1)} s, {.path {x$dir}}",
+            "* {sum(errors$level == 'Warning')} warning{?s}, {sum(errors$level == 'Severe')} severe error{?s}")
+  invisible(x)
+}
+
+# Runs `model` (already checked, with its outputs) and returns the run, or
+# fails with EnergyPlus's messages.
+run_model <- function(model, weather, eplus, dir, timeout, call = rlang::caller_env()) {
+  dir <- dir %||% tempfile("eplus-run-")
+  dir.create(dir, showWarnings = FALSE, recursive = TRUE)
+  input <- file.path(dir, "in.epJSON")
+  write_epjson(model$json, input)
+  args <- c("-w", plain_file(weather, dir), "-d", dir, input)
+  result <- run_energyplus(eplus, args, dir, timeout)
+  if (!result$ok) {
+    abort_eplus_errors(result, "EnergyPlus ended with an error.",
+                       i = "Check the model and the parameter values of this run.", call = call)
+  }
+  structure(list(dir = dir, ok = TRUE, sql = file.path(dir, "eplusout.sql"), time = result$time),
+            class = "bayesbem_eplus_run")
+}
+
+# One call of the energyplus executable under a time limit; `ok` when it
+# completed successfully (eplusout.end says so).
+run_energyplus <- function(eplus, args, dir, timeout) {
+  start <- Sys.time()
+  out <- processx::run(eplus_exe(eplus), args, wd = dir, error_on_status = FALSE,
+                       timeout = timeout, cleanup_tree = TRUE)
+  end <- file.path(dir, "eplusout.end")
+  ok <- !isTRUE(out$timeout) && file.exists(end) &&
+    grepl("Completed Successfully", readLines(end, warn = FALSE)[1])
+  list(ok = ok, timeout = isTRUE(out$timeout), limit = timeout, dir = dir,
+       output = out$stdout, time = as.numeric(difftime(Sys.time(), start, units = "secs")))
+}
+
+# EnergyPlus's messages are quoted, not interpolated (they hold braces).
+abort_eplus_errors <- function(result, what, ..., call = rlang::caller_env(),
+                               .envir = parent.frame()) {
+  errors <- read_err(file.path(result$dir, "eplusout.err"))
+  lines <- errors$message[errors$level %in% c("Severe", "Fatal")]
+  if (result$timeout) {
+    lines <- c(sprintf("the run took longer than its time limit of %s s", format(result$limit)),
+               lines)
+  }
+  if (length(lines) == 0L) lines <- utils::tail(strsplit(result$output, "\n")[[1]], 3)
+  lines <- gsub("}", "}}", gsub("{", "{{", utils::head(lines, 6), fixed = TRUE), fixed = TRUE)
+  abort_bayesbem(c(what, stats::setNames(lines, rep("x", length(lines))), ...),
+                 "eplus_run", errors = errors, call = call, .envir = .envir)
+}
+
+# EnergyPlus's error file as a table: each "** Warning **", "** Severe **"
+# or "** Fatal **" line with its "**   ~~~   **" continuation lines.
+read_err <- function(path) {
+  lines <- if (file.exists(path)) readLines(path, warn = FALSE) else character()
+  head <- regmatches(lines, regexec("^\\s*\\*\\*\\s*(Warning|Severe|Fatal)\\s*\\*\\*\\s?(.*)$", lines))
+  is_head <- lengths(head) == 3L
+  more <- grepl("^\\s*\\*\\*\\s*~~~\\s*\\*\\*", lines)
+  group <- cumsum(is_head)
+  keep <- (is_head | more) & group > 0L
+  text <- ifelse(is_head, vapply(head, function(h) if (length(h) == 3L) h[3] else "", ""),
+                 trimws(sub("^\\s*\\*\\*\\s*~~~\\s*\\*\\*", "", lines)))
+  data.frame(level = vapply(head[is_head], `[`, "", 2),
+             message = as.vector(tapply(trimws(text[keep]), group[keep], paste, collapse = " ")),
+             stringsAsFactors = FALSE)
+}
+
+# EnergyPlus reads plain files only: a `.gz` file is decompressed into `dir`
+# (readLines() reads gzip itself); others are used where they are.
+plain_file <- function(path, dir) {
+  if (!grepl("\\.gz$", path)) {
+    return(normalizePath(path))
+  }
+  to <- file.path(dir, basename(sub("\\.gz$", "", path)))
+  writeLines(readLines(path, warn = FALSE), to)
+  to
+}
+
+# Every field of the model known to EnergyPlus: the model goes through
+# EnergyPlus's converter to IDF and back, which checks types and ranges
+# (severe errors) and drops keys its schema does not have (found by
+# comparing).
+check_model_fields <- function(model, eplus, call = rlang::caller_env()) {
+  tmp <- tempfile("eplus-check-")
+  dir.create(tmp)
+  on.exit(unlink(tmp, recursive = TRUE), add = TRUE)
+  path <- file.path(tmp, "model.epJSON")
+  write_epjson(model$json, path)
+  idf <- convert_model(path, eplus, "idf", label = "the model", call = call)
+  back <- read_epjson(convert_model(idf, eplus, "epJSON", label = "the model", call = call))
+  lost <- unlist(lapply(names(model$json), function(class) {
+    objects <- model$json[[class]]
+    unlist(lapply(seq_along(objects), function(i) {
+      # unnamed objects get their names back by position
+      converted <- back[[class]][[names(objects)[i]]] %||% back[[class]][[i]]
+      keys <- setdiff(object_keys(objects[[i]]), object_keys(converted))
+      if (length(keys) > 0L) sprintf("%s %s: %s", class, names(objects)[i], keys)
+    }))
+  }))
+  if (length(lost) > 0L) {
+    abort_bayesbem(c("EnergyPlus does not know these fields:",
+                     stats::setNames(utils::head(lost, 8), rep("x", min(length(lost), 8))),
+                     i = "Use the field names of the IDD ({.file Energy+.idd}) for this version of EnergyPlus."),
+                   "eplus_model", call = call)
+  }
+  invisible(model)
+}
+
+# The keys of an object, those of its arrays' items as "array/key".
+object_keys <- function(object) {
+  unlist(lapply(names(object), function(key) {
+    value <- object[[key]]
+    if (is_json_array(value)) {
+      paste0(key, "/", unique(unlist(lapply(value, names))))
+    } else {
+      key
+    }
+  }))
+}
+
+# The model with SQLite output, which the results are read from.
+with_sqlite <- function(model) {
+  if (length(eplus_objects(model, "Output:SQLite")) == 0L) {
+    model <- eplus_add(model, "Output:SQLite", option_type = "Simple")
+  }
+  model
+}

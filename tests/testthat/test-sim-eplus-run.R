@@ -1,0 +1,58 @@
+test_that("a run reports its errors file and its outputs from SQLite", {
+  skip_if_no_eplus()
+  run <- eplus_run(seb_model(), shipped_epw(2013))
+  expect_true(run$ok)
+  errors <- eplus_errors(run)
+  expect_named(errors, c("level", "message"))
+  expect_equal(sum(errors$level %in% c("Severe", "Fatal")), 0)
+  expect_match(errors$message[1], "Timestep: Requested number \\(1\\)")
+  monthly <- eplus_output(run, "Electricity:Facility", frequency = "Monthly")
+  # the base model's annual electricity (models/README.md: 25,085 kWh)
+  expect_equal(sum(monthly$value), 25085, tolerance = 1e-3)
+  expect_equal(attr(monthly, "units"), "kWh")
+  expect_error(eplus_output(run, "Electricity:Facility", frequency = "Hourly"),
+               class = "bayesbem_error_eplus_output")
+})
+
+test_that("the errors file is parsed with continuation lines", {
+  err <- withr::local_tempfile()
+  writeLines(c("Program Version,EnergyPlus, Version 25.2.0",
+               "   ** Warning ** first warning",
+               "   **   ~~~   ** its detail",
+               "   ** Severe  ** a severe one",
+               "   **  Fatal  ** stop",
+               "   ...Summary of Errors that led to program termination:"), err)
+  errors <- bayesbem:::read_err(err)
+  expect_equal(errors$level, c("Warning", "Severe", "Fatal"))
+  expect_equal(errors$message, c("first warning its detail", "a severe one", "stop"))
+})
+
+test_that("fields EnergyPlus does not know, bad values and time limits are classed errors", {
+  skip_if_no_eplus()
+  model <- seb_model()
+  typo <- eplus_set(model, "Lights", "AllLights", `Watts per Flor Area` = 3)
+  expect_snapshot(eplus_run(typo, shipped_epw(2013)), error = TRUE)
+  bad <- eplus_set(model, "Material", "Stuco", Conductivity = -1)
+  expect_snapshot(eplus_run(bad, shipped_epw(2013)), error = TRUE)
+  err <- expect_error(eplus_run(model, shipped_epw(2013), timeout = 0.2),
+                      class = "bayesbem_error_eplus_run")
+  expect_match(conditionMessage(err), "time limit of 0.2 s")
+  expect_error(eplus_run(model, "no-such.epw"), class = "bayesbem_error_file")
+})
+
+test_that("a model with HVACTemplate objects is expanded by ExpandObjects and runs", {
+  idf <- withr::local_tempfile(fileext = ".idf")
+  writeLines(c(readLines(example_model_path("1ZoneUncontrolled_25_2.idf")),
+               "HVACTemplate:Thermostat, Constant Setpoints, , 20, , 24;",
+               "HVACTemplate:Zone:IdealLoadsAirSystem, ZONE ONE, Constant Setpoints;"), idf)
+  model <- eplus_model(idf)
+  expect_true("ZoneHVAC:IdealLoadsAirSystem" %in% names(model$json))
+  model <- eplus_add(model, "Output:Variable", key_value = "ZONE ONE",
+                     variable_name = "Zone Mean Air Temperature", reporting_frequency = "Daily")
+  run <- eplus_run(model, shipped_epw(2013))
+  temp <- eplus_output(run, "Zone Mean Air Temperature", key = "ZONE ONE")
+  expect_equal(nrow(temp), 365)
+  # ideal loads hold the zone between the setpoints
+  expect_true(all(temp$value > 19.9 & temp$value < 24.1))
+  expect_error(eplus_add(model, "HVACTemplate:Thermostat", "T"), class = "bayesbem_error_eplus_model")
+})
