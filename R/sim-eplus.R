@@ -128,7 +128,7 @@ model_files_md5 <- function(model) {
 #'   `Energy+.idd`.
 #' @return `eplus_path()`: the directory; `eplus_available()`: `TRUE` or
 #'   `FALSE`.
-#' @family simulation
+#' @family EnergyPlus
 #' @export
 #' @examples
 #' eplus_available()

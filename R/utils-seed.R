@@ -13,15 +13,20 @@ with_seed <- function(seed, expr) {
   expr
 }
 
-# The session's .Random.seed, or NULL when there is none yet.
+# The session's generator: its kinds and its .Random.seed (NULL when there
+# is none yet).
 saved_seed <- function() {
-  if (exists(".Random.seed", envir = globalenv())) get(".Random.seed", envir = globalenv())
+  seed <- if (exists(".Random.seed", envir = globalenv())) get(".Random.seed", envir = globalenv())
+  list(kind = RNGkind(), seed = seed)
 }
 
-# Puts back a saved .Random.seed (NULL: there was none).
+# Puts back a saved generator. The kinds are restored first: without a
+# .Random.seed the next draw seeds itself under the current kind, which
+# (e.g. after future.apply) may not be the session's.
 restore_seed <- function(old) {
-  if (!is.null(old)) {
-    assign(".Random.seed", old, envir = globalenv())
+  do.call(RNGkind, as.list(old$kind))
+  if (!is.null(old$seed)) {
+    assign(".Random.seed", old$seed, envir = globalenv())
   } else if (exists(".Random.seed", envir = globalenv())) {
     rm(".Random.seed", envir = globalenv())
   }

@@ -117,16 +117,24 @@ test_that("a failed run keeps the others and quotes EnergyPlus; the cache sees t
   expect_lt(sum(second$eta), sum(first$eta) - 500)
 })
 
+# The one-zone example of EnergyPlus (no HVAC, no facility meter): its mean
+# zone air temperature from its equipment gain and roof insulation.
+one_zone_map <- function() {
+  data.frame(parameter = c("equipment_gain", "roof_r_value"),
+             object_type = c("OtherEquipment", "Material:NoMass"),
+             object_name = c("Test 352a", "R31LAYER"),
+             field = c("Design Level", "Thermal Resistance"), apply = "value",
+             initial = c(352, 5.456), min = c(0, 2), max = c(1500, 8))
+}
+
+one_zone <- function(by = "month") {
+  eplus_simulator(example_model_path("1ZoneUncontrolled_25_2.idf"), shipped_epw(2013),
+                  map = one_zone_map(), output = "Zone Mean Air Temperature", by = by)
+}
+
 test_that("a zone temperature is averaged over months and days (1ZoneUncontrolled)", {
-  path <- example_model_path("1ZoneUncontrolled_25_2.idf")
-  map <- data.frame(parameter = c("equipment_gain", "roof_r_value"),
-                    object_type = c("OtherEquipment", "Material:NoMass"),
-                    object_name = c("Test 352a", "R31LAYER"),
-                    field = c("Design Level", "Thermal Resistance"), apply = "value",
-                    initial = c(352, 5.456), min = c(0, 2), max = c(1500, 8))
-  monthly <- eplus_simulator(path, shipped_epw(2013), map = map, output = "Zone Mean Air Temperature")
-  daily <- eplus_simulator(path, shipped_epw(2013), map = map, output = "Zone Mean Air Temperature",
-                           by = "day")
+  monthly <- one_zone()
+  daily <- one_zone("day")
   design <- data.frame(equipment_gain = c(352, 1000))
   m <- simulate_design(monthly, design)
   d <- simulate_design(daily, design)
@@ -138,4 +146,57 @@ test_that("a zone temperature is averaged over months and days (1ZoneUncontrolle
   expect_equal(m$eta, as.vector(tapply(d$eta, list(month, run), mean)), tolerance = 1e-9)
   # more internal gain, a warmer zone in every month
   expect_true(all(m$eta[13:24] > m$eta[1:12] + 1))
+})
+
+test_that("Morris screening, a Latin hypercube, calibration and the closed loop run on EnergyPlus", {
+  skip_if_no_eplus()
+  skip_if_not_installed("sensitivity")
+  sim <- seb_eplus()
+  withr::local_options(future.rng.onMisuse = "ignore")
+  future::plan(future::multisession, workers = 2)
+  on.exit(future::plan(future::sequential), add = TRUE)
+  m <- screen_morris(sim, r = 2, seed = 1)
+  expect_equal(nrow(m), 14)
+  top <- m$parameter[m$rank <= 3]
+  # plug loads dominate the electricity of this building
+  expect_true("equipment_power_density" %in% top)
+  design <- design_lhs(sim$parameters[sim$parameters$parameter %in% top, ], n = 10, seed = 2)
+  table <- simulate_design(sim, design)
+  expect_equal(nrow(table), 120)
+  field <- data.frame(y = seb_field$y, sim$x)
+  fit <- suppressWarnings(calibrate(field, table, chains = 1, iter = 300, seed = 3, refresh = 0),
+                          classes = "bayesbem_warning_convergence")
+  expect_setequal(summary(fit)$parameters$variable, top)
+  check <- validate_emulator(fit, sim, ndraws = 4)
+  expect_equal(nrow(check$table), 4 * 12)
+  expect_type(check$trusted, "logical")
+  real <- posterior_simulate(fit, sim, ndraws = 4)
+  expect_equal(real$mean, colMeans(matrix(check$table$simulated, nrow = 4, byrow = TRUE)))
+})
+
+test_that("a zone temperature is calibrated by month and by day to a known truth", {
+  truth <- list(equipment_gain = 800, roof_r_value = 4)
+  sim <- one_zone()
+  params <- sim$parameters
+  design <- design_lhs(params, n = 10, seed = 3)
+  runs <- simulate_design(sim, design)
+  field <- simulate_field(sim, truth, noise_sd = 0.1, seed = 4)
+  fit <- suppressWarnings(calibrate(field[c("y", "temp", "rh", "solar")], runs, chains = 2,
+                                    iter = 600, seed = 5, refresh = 0),
+                          classes = "bayesbem_warning_convergence")
+  s <- summary(fit)$parameters
+  expect_true(s["equipment_gain", "q5"] <= 800 && s["equipment_gain", "q95"] >= 800)
+  # the 90 % interval is narrower than the prior's (1350)
+  expect_lt(s["equipment_gain", "q95"] - s["equipment_gain", "q5"], 900)
+  # daily: 28 days spread over the year, the runs at the same days
+  daily <- one_zone("day")
+  days <- seq(5, 365, by = 13)
+  runs_d <- simulate_design(daily, design)
+  runs_d <- runs_d[rep(seq_len(365), 10) %in% days, ]
+  field_d <- simulate_field(daily, truth, noise_sd = 0.2, seed = 6)[days, ]
+  fit_d <- suppressWarnings(calibrate(field_d[c("y", "temp", "rh", "solar")], runs_d, chains = 2,
+                                      iter = 600, seed = 7, refresh = 0),
+                            classes = "bayesbem_warning_convergence")
+  s <- summary(fit_d)$parameters
+  expect_true(s["equipment_gain", "q5"] <= 800 && s["equipment_gain", "q95"] >= 800)
 })

@@ -93,3 +93,13 @@ test_that("the cache key covers everything that changes a simulator's output", {
   simulate_design(keyed("v2"), data.frame(a = 1), cache_dir = cache)
   expect_equal(length(list.files(cache)), n_files + 1)
 })
+
+test_that("simulate_design() leaves the session's random number generator as it was", {
+  sim <- bem_simulator(shipped_epw(2013))
+  withr::local_seed(1)
+  rm(".Random.seed", envir = globalenv())
+  kind <- RNGkind()
+  simulate_design(sim, data.frame(equipment_power_density = 10))
+  expect_equal(RNGkind(), kind)
+  expect_false(exists(".Random.seed", envir = globalenv()))
+})

@@ -1,0 +1,235 @@
+#' Check the emulator against the simulator at the posterior
+#'
+#' The closed loop of a calibration: `validate_emulator()` reruns the
+#' simulator (EnergyPlus, the embedded model or any [simulator()]) at
+#' `ndraws` posterior draws of the calibration parameters and compares its
+#' real outputs with the emulator's predictions at those draws. For each
+#' draw the emulator's prediction is the Gaussian conditional of
+#' `eta(x, tf)` given all data under that draw's hyperparameters (as in
+#' [predict.koh_fit()] with `type = "eta"`), so its `level` interval should
+#' hold the simulator's output at about that rate.
+#'
+#' The verdict: the emulator can be trusted for this posterior when at least
+#' `level - 0.1` of the simulator's outputs lie in the emulator's intervals
+#' and its error (root mean square) is below the observation noise's
+#' standard deviation. Otherwise the report says why, from the distance of
+#' the draws to the nearest simulation run relative to the runs' distances
+#' to each other: posterior draws farther from the runs than the runs are
+#' from each other mean the design missed the posterior's region (add runs
+#' there); otherwise the runs are too few for the emulator (add runs).
+#'
+#' `posterior_simulate()` returns the real simulator's outputs at the
+#' posterior draws: the calibrated model's predictions without the emulator
+#' (and without the discrepancy).
+#'
+#' Both run the simulator through [simulate_design()]: the `future` plan
+#' decides where, `cache_dir` caches the runs, and failed runs are left out
+#' with a warning. The simulator's observable inputs must contain the fit's
+#' field inputs (matched by value, so a simulator over more periods than the
+#' fit's training data serves); a simulator with as many periods as the fit
+#' but other input values is taken in order, with a warning of class
+#' `bayesbem_warning_simulator`.
+#'
+#' @param fit A `koh_fit`.
+#' @param simulator A `bayesbem_simulator` whose parameters include the
+#'   fit's calibration parameters (others are held at their initial values).
+#' @param ndraws Number of posterior draws (evenly spaced) to run the
+#'   simulator at.
+#' @param level Level of the emulator's intervals.
+#' @param cache_dir Optional directory for cached runs, see
+#'   [simulate_design()].
+#' @param summary For `posterior_simulate()`: a data frame of summaries
+#'   (`TRUE`) or a draws-by-periods matrix.
+#' @param probs Quantiles reported when `summary = TRUE`.
+#' @param ... Unused.
+#' @return `validate_emulator()`: an object of class `koh_emulator_check`, a
+#'   list with `table` (one row per draw and period: `draw`, `period`, the
+#'   inputs, `simulated`, the emulator's `mean`, `sd`, `lower` and `upper`,
+#'   and `inside`), `periods` (per period: mean error, RMSE and coverage),
+#'   `coverage`, `rmse`, `noise_sd`, `distance` (median distance of the
+#'   draws to the nearest run over the runs' median nearest-neighbour
+#'   distance), `trusted` and `verdict`. `posterior_simulate()`: the
+#'   field inputs with `mean`, `sd` and quantiles of the simulator's output,
+#'   or the matrix.
+#' @family diagnostics
+#' @export
+#' @examples
+#' \donttest{
+#' # seb_fit's runs came from EnergyPlus; the embedded model is another
+#' # simulator, which the check exposes
+#' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+#' check <- validate_emulator(seb_fit, sim, ndraws = 5)
+#' check
+#' posterior_simulate(seb_fit, sim, ndraws = 5)
+#' }
+validate_emulator <- function(fit, simulator, ndraws = 20, level = 0.9, cache_dir = NULL, ...) {
+  rlang::check_dots_empty()
+  check_probability(level)
+  runs <- posterior_runs(fit, simulator, ndraws, cache_dir)
+  data <- fit$data
+  x <- field_inputs(data)[data$names$x]
+  g <- gp_geometry(data, scale_newdata(data, x), fit_structure(fit))
+  n <- nrow(x)
+  z <- stats::qnorm(1 - (1 - level) / 2)
+  rows <- lapply(seq_along(runs$draws), function(i) {
+    cond <- koh_conditional(g, runs$draws[[i]])
+    mean <- unscale_y(cond$mean[seq_len(n)], data$scaling)
+    sd <- unscale_y_spread(sqrt(pmax(diag(cond$cov)[seq_len(n)], 0)), data$scaling)
+    data.frame(draw = runs$index[i], period = seq_len(n), x, simulated = runs$eta[i, ],
+               mean = mean, sd = sd, lower = mean - z * sd, upper = mean + z * sd,
+               row.names = NULL)
+  })
+  table <- do.call(rbind, rows)
+  table <- table[!is.na(table$simulated), ]
+  table$inside <- table$simulated >= table$lower & table$simulated <= table$upper
+  emulator_verdict(table, fit, runs, level)
+}
+
+#' @rdname validate_emulator
+#' @export
+posterior_simulate <- function(fit, simulator, ndraws = 20, summary = TRUE,
+                               probs = c(0.05, 0.5, 0.95), cache_dir = NULL, ...) {
+  rlang::check_dots_empty()
+  check_bool(summary)
+  runs <- posterior_runs(fit, simulator, ndraws, cache_dir)
+  eta <- runs$eta[stats::complete.cases(runs$eta), , drop = FALSE]
+  if (!summary) {
+    return(eta)
+  }
+  summarise_columns(eta, field_inputs(fit$data)[fit$data$names$x], probs)
+}
+
+# The simulator run at evenly spaced posterior draws: the draws (Stan
+# scale), their indices, and the outputs at the fit's field rows (draws by
+# rows; NA rows for failed runs).
+posterior_runs <- function(fit, simulator, ndraws, cache_dir, call = rlang::caller_env()) {
+  check_koh_fit(fit, call = call)
+  check_count(ndraws, call = call)
+  rows <- simulator_rows(fit, simulator, call)
+  data <- fit$data
+  total <- nrow(as.matrix(fit$stanfit, pars = "lambda_e"))
+  index <- draw_subset(total, ndraws)
+  draws <- draw_parameters(fit, ndraws)
+  tf <- unscale_t(do.call(rbind, lapply(draws, `[[`, "tf")), data$scaling)
+  range <- simulator$parameters[match(data$names$t, simulator$parameters$parameter), ]
+  design <- as.data.frame(tf)
+  names(design) <- data$names$t
+  # unscaling can pass a bound by rounding
+  design[] <- lapply(seq_along(design), function(k) {
+    pmin(pmax(design[[k]], range$min[k]), range$max[k])
+  })
+  out <- simulate_design(simulator, design, cache_dir = cache_dir)
+  eta <- matrix(NA_real_, length(draws), nrow(simulator$x))
+  ok <- setdiff(seq_along(draws), attr(out, "failed")$run)
+  if (length(ok) == 0L) {
+    abort_bayesbem("Every simulation run at the posterior draws failed.", "simulation", call = call)
+  }
+  eta[ok, ] <- matrix(out$eta, nrow = length(ok), byrow = TRUE)
+  list(draws = draws, index = index, eta = eta[, rows, drop = FALSE], design = design)
+}
+
+# The simulator's periods that are the fit's field rows, matched by the
+# observable inputs' values; the calibration parameters must be the
+# simulator's.
+simulator_rows <- function(fit, simulator, call) {
+  if (!inherits(simulator, "bayesbem_simulator")) {
+    abort_bayesbem(c("{.arg simulator} must be a simulator, not {describe_value(simulator)}.",
+                     i = "Make one with {.fn simulator}, {.fn bem_simulator} or {.fn eplus_simulator}."),
+                   "argument", call = call)
+  }
+  data <- fit$data
+  unknown <- setdiff(data$names$t, simulator$parameters$parameter)
+  missing_x <- setdiff(data$names$x, names(simulator$x))
+  if (length(unknown) > 0L || length(missing_x) > 0L) {
+    abort_bayesbem(c("{.arg simulator} does not match the fit.",
+                     x = if (length(unknown) > 0L) "It has no parameter{?s} {.field {unknown}}.",
+                     x = if (length(missing_x) > 0L) "It has no observable input{?s} {.field {missing_x}}.",
+                     i = "Use the simulator whose runs the fit was calibrated on."),
+                   "simulator", call = call)
+  }
+  field <- field_inputs(data)[data$names$x]
+  key <- function(x) row_keys(signif(as.matrix(x[data$names$x]), 6))
+  rows <- match(key(field), key(simulator$x))
+  if (anyNA(rows) && nrow(simulator$x) == nrow(field)) {
+    # as many periods as the fit: taken in order, the differences reported
+    spread <- vapply(data$names$x, function(v) diff(range(field[[v]])), numeric(1))
+    gap <- vapply(data$names$x, function(v) max(abs(simulator$x[[v]] - field[[v]])), numeric(1)) /
+      pmax(spread, .Machine$double.eps)
+    differ <- data$names$x[gap > 1e-6]
+    warn_bayesbem(c("The simulator's observable inputs differ from the fit's field inputs in {.field {differ}} (at most {round(100 * max(gap), 1)}% of their range); its periods are taken in order.",
+                    i = "The emulator is evaluated at the fit's inputs and the simulator at its own."),
+                  "simulator")
+    return(seq_len(nrow(field)))
+  }
+  if (anyNA(rows)) {
+    abort_bayesbem(c("{sum(is.na(rows))} of the fit's {length(rows)} field period{?s} {?is/are} not among the simulator's periods.",
+                     i = "The simulator's observable inputs must include each field row's values ({.field {data$names$x}})."),
+                   "simulator", call = call)
+  }
+  rows
+}
+
+# Coverage, error and the verdict of validate_emulator().
+emulator_verdict <- function(table, fit, runs, level) {
+  data <- fit$data
+  error <- table$simulated - table$mean
+  noise_sd <- mean(vapply(runs$draws, function(p) 1 / sqrt(p$lambda_e), numeric(1))) *
+    data$scaling$y_scale
+  periods <- data.frame(
+    period = sort(unique(table$period)),
+    error = as.vector(tapply(error, table$period, mean)),
+    rmse = as.vector(tapply(error^2, table$period, function(e) sqrt(mean(e)))),
+    coverage = as.vector(tapply(table$inside, table$period, mean))
+  )
+  coverage <- mean(table$inside)
+  rmse <- sqrt(mean(error^2))
+  distance <- design_distance(data, runs$draws)
+  trusted <- coverage >= level - 0.1 && rmse <= noise_sd
+  verdict <- if (trusted) {
+    sprintf("The emulator can be trusted for this posterior: %.0f%% of the simulator's outputs lie in its %.0f%% intervals, and its error (RMSE %s) is below the noise (sd %s).",
+            100 * coverage, 100 * level, format(signif(rmse, 3)), format(signif(noise_sd, 3)))
+  } else {
+    why <- if (distance > 1) {
+      sprintf("the posterior lies away from the runs (%.1f times farther from the nearest run than the runs are from each other): add runs in the posterior's region, e.g. a Latin hypercube over its 90%% intervals.", distance)
+    } else {
+      "the runs are too few for the emulator where the posterior lies: add runs."
+    }
+    sprintf("The emulator cannot be trusted for this posterior: %.0f%% of the simulator's outputs lie in its %.0f%% intervals (RMSE %s, noise sd %s); %s",
+            100 * coverage, 100 * level, format(signif(rmse, 3)), format(signif(noise_sd, 3)), why)
+  }
+  structure(list(table = table, periods = periods, coverage = coverage, rmse = rmse,
+                 noise_sd = noise_sd, distance = distance, level = level, trusted = trusted,
+                 verdict = verdict, y = data$names$y),
+            class = "koh_emulator_check")
+}
+
+# Median distance of the draws' tf to the nearest run, over the runs' median
+# distance to their nearest neighbour (scaled parameters).
+design_distance <- function(data, draws) {
+  tc <- unique(as.matrix(data$tc))
+  tf <- do.call(rbind, lapply(draws, `[[`, "tf"))
+  nearest <- function(a, b, self) {
+    d <- sqrt(pmax(outer(rowSums(a^2), rowSums(b^2), "+") - 2 * a %*% t(b), 0))
+    if (self) diag(d) <- Inf
+    apply(d, 1, min)
+  }
+  if (nrow(tc) < 2L) {
+    return(Inf)
+  }
+  stats::median(nearest(tf, tc, FALSE)) / stats::median(nearest(tc, tc, TRUE))
+}
+
+#' @export
+print.koh_emulator_check <- function(x, ...) {
+  rlang::check_dots_empty()
+  cat(strwrap(x$verdict), sep = "\n")
+  cat("\nPer period:\n")
+  print_rounded(x$periods, 3)
+  invisible(x)
+}
+
+#' @export
+plot.koh_emulator_check <- function(x, ...) {
+  rlang::check_dots_empty()
+  plot_emulator_check(x)
+}

@@ -1,0 +1,46 @@
+#' The emulator against the simulator at the posterior
+#'
+#' For each field period (x axis) and posterior draw (side by side within
+#' the period), the emulator's interval at the draw's calibration
+#' parameters (bar) and the simulator's real output there (point; red when
+#' outside the interval). See [validate_emulator()].
+#'
+#' @param check A `koh_emulator_check` from [validate_emulator()].
+#' @return `plot_emulator_check()`: a ggplot. `plot_emulator_check_data()`:
+#'   the check's table with `position`, the period offset by draw.
+#' @family plots
+#' @family diagnostics
+#' @export
+#' @examples
+#' \donttest{
+#' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+#' plot_emulator_check(validate_emulator(seb_fit, sim, ndraws = 5))
+#' }
+plot_emulator_check <- function(check) {
+  d <- plot_emulator_check_data(check)
+  ggplot2::ggplot(d, ggplot2::aes(x = .data$position)) +
+    ggplot2::geom_linerange(ggplot2::aes(ymin = .data$lower, ymax = .data$upper),
+                            colour = "#1b6ca8", alpha = 0.6) +
+    ggplot2::geom_point(ggplot2::aes(y = .data$simulated, colour = .data$inside), size = 1) +
+    ggplot2::scale_colour_manual(values = c(`TRUE` = "black", `FALSE` = "#c0392b"),
+                                 labels = c(`TRUE` = "inside", `FALSE` = "outside"),
+                                 name = "simulator output") +
+    ggplot2::labs(x = "field period", y = check$y,
+                  caption = sprintf("bars: emulator's %.0f%% intervals at posterior draws; points: simulator",
+                                    100 * check$level)) +
+    ggplot2::theme_bw()
+}
+
+#' @rdname plot_emulator_check
+#' @export
+plot_emulator_check_data <- function(check) {
+  if (!inherits(check, "koh_emulator_check")) {
+    abort_bayesbem("{.arg check} must come from {.fn validate_emulator}, not {describe_value(check)}.",
+                   "argument")
+  }
+  d <- check$table
+  draws <- sort(unique(d$draw))
+  offset <- if (length(draws) > 1L) (match(d$draw, draws) - 1) / (length(draws) - 1) - 0.5 else 0
+  d$position <- d$period + 0.6 * offset
+  d
+}

@@ -1,0 +1,53 @@
+test_that("the emulator of a fit on the right simulator passes the closed loop", {
+  case <- synthetic_case("none")
+  sim <- synthetic_simulator()
+  check <- validate_emulator(case$base, sim, ndraws = 8)
+  expect_s3_class(check, "koh_emulator_check")
+  expect_equal(nrow(check$table), 8 * 36)
+  # the simulator's outputs, recomputed independently at the draws' parameters
+  tf <- bayesbem:::parameter_draws(case$base)[unique(check$table$draw), ]
+  design <- as.data.frame(unclass(tf)[, c("equipment_power_density", "infiltration_per_exterior_area")])
+  direct <- simulate_design(sim, design)
+  rows <- match(bayesbem:::row_keys(as.matrix(case$base$data$field[c("temp", "rh", "solar")])),
+                bayesbem:::row_keys(as.matrix(sim$x)))
+  expect_equal(check$table$simulated,
+               as.vector(t(matrix(direct$eta, nrow = 8, byrow = TRUE)[, rows])))
+  expect_gte(check$coverage, 0.8)
+  expect_true(check$trusted)
+  expect_match(check$verdict, "can be trusted")
+  expect_equal(nrow(check$periods), 36)
+  expect_equal(check$coverage, mean(check$table$simulated >= check$table$lower &
+                                      check$table$simulated <= check$table$upper))
+  # the real simulator's output distribution at the posterior
+  ps <- posterior_simulate(case$base, sim, ndraws = 8)
+  expect_equal(ps$mean, colMeans(matrix(check$table$simulated, nrow = 8, byrow = TRUE)))
+})
+
+test_that("a simulator other than the fit's is exposed, with the reason", {
+  case <- synthetic_case("none")
+  other <- synthetic_simulator()
+  shifted <- simulator(function(params, x) 1.3 * other$fun(params, x), other$x, other$parameters)
+  check <- validate_emulator(case$base, shifted, ndraws = 4)
+  expect_false(check$trusted)
+  expect_lt(check$coverage, 0.2)
+  expect_match(check$verdict, "cannot be trusted")
+  expect_s3_class(plot(check), "ggplot")
+  d <- plot_emulator_check_data(check)
+  expect_true(all(abs(d$position - d$period) <= 0.3 + 1e-12))
+})
+
+test_that("validate_emulator() checks its inputs", {
+  sim <- bem_simulator(shipped_epw(2013))
+  expect_error(validate_emulator(seb_fit, sim, ndraws = 0), class = "bayesbem_error_argument")
+  expect_error(validate_emulator(seb_fit, sim, level = 2), class = "bayesbem_error_argument")
+  expect_error(validate_emulator(seb_fit, list()), class = "bayesbem_error_argument")
+  expect_error(validate_emulator(seb_fit, sim, n_draws = 5), class = "rlib_error_dots_nonempty")
+  # the shipped fit's solar inputs are not the weather file's direct normal radiation
+  expect_snapshot(check <- validate_emulator(seb_fit, sim, ndraws = 2))
+  expect_equal(nrow(check$table), 2 * 12)
+  daily <- bem_simulator(epw_daily(shipped_epw(2013)))
+  expect_snapshot(validate_emulator(seb_fit, daily, ndraws = 2), error = TRUE)
+  lin <- simulator(function(params, x) params$a * x$temp, x = sim$x,
+                   parameters = data.frame(parameter = "a", initial = 1, min = 0, max = 2))
+  expect_snapshot(validate_emulator(seb_fit, lin, ndraws = 2), error = TRUE)
+})
