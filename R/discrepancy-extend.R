@@ -55,12 +55,18 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
   } else {
     terms <- extension_covariates(data, with, covariates)
   }
+  refit(fit, field = data, covariates = terms, ...)
+}
+
+# Calibrates again with the fit's data, priors and sampler settings; `...`
+# replaces any argument of calibrate().
+refit <- function(fit, ...) {
   settings <- fit$settings
   args <- utils::modifyList(
-    list(field = data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
+    list(field = fit$data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
          warmup = settings$warmup, seed = settings$seed,
          structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
-         covariates = terms),
+         covariates = fit$data$covariates),
     list(...)
   )
   do.call(calibrate, args)

@@ -7,7 +7,7 @@ test_that("each hidden effect is flagged and its cause ranks first", {
   for (kind in names(synthetic_causes)) {
     case <- synthetic_case(kind)
     expect_true(any(discrepancy(case$base)$flag), label = kind)
-    ex <- explain_discrepancy(case$base, case$train_covariates, n_perm = 500, seed = 1)
+    ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, seed = 1)
     expect_s3_class(ex, "koh_explanation")
     expect_gte(nrow(ex), 4)
     expect_equal(ex$candidate[1], synthetic_causes[[kind]], label = kind)
@@ -23,7 +23,7 @@ test_that("a correct simulator gets no cause in the large majority of data draws
   explanations <- lapply(5:8, function(noise_seed) {
     case <- if (noise_seed == 5) synthetic_case("none") else
       make_synthetic_case("none", noise_seed = noise_seed)
-    explain_discrepancy(case$base, case$train_covariates, n_perm = 500, seed = 1)
+    explain_discrepancy(case$base, case$train_covariates, n_null = 500, seed = 1)
   })
   alarms <- vapply(explanations, function(ex) any(ex$explains), logical(1))
   expect_lte(sum(alarms), 1)
@@ -41,7 +41,7 @@ test_that("a candidate that only mimics a parameter's effect is not credited", {
   lo <- sim$fun(utils::modifyList(p, list(equipment_power_density = 10)), sim$x)
   hi <- sim$fun(utils::modifyList(p, list(equipment_power_density = 20)), sim$x)
   mimic <- data.frame(epd_effect = (hi - lo)[-synthetic_held_out])
-  ex <- explain_discrepancy(case$base, cbind(case$train_covariates, mimic), n_perm = 200,
+  ex <- explain_discrepancy(case$base, cbind(case$train_covariates, mimic), n_null = 200,
                             seed = 1)
   expect_lt(ex$share[ex$candidate == "epd_effect"], 0.1)
   expect_false(ex$explains[ex$candidate == "epd_effect"])
@@ -50,14 +50,40 @@ test_that("a candidate that only mimics a parameter's effect is not credited", {
 
 test_that("shares are fractions with intervals, p-values adjusted", {
   skip_on_cran()
-  ex <- explain_discrepancy(shared_fit(), data.frame(k = seq_len(12)), n_perm = 99,
+  ex <- explain_discrepancy(shared_fit(), data.frame(k = seq_len(12)), n_null = 99,
                             ndraws = 50, seed = 2)
-  expect_named(ex, c("candidate", "share", "lower", "upper", "p_value", "explains"))
+  expect_named(ex, c("candidate", "share", "lower", "upper", "z", "p_value", "explains"))
   expect_true(all(ex$lower <= ex$share & ex$share <= ex$upper))
   expect_true(all(ex$share >= 0 & ex$share <= 1))
   expect_true(all(ex$p_value > 0 & ex$p_value <= 1))
-  expect_equal(explain_discrepancy(shared_fit(), data.frame(k = seq_len(12)), n_perm = 99,
+  expect_equal(explain_discrepancy(shared_fit(), data.frame(k = seq_len(12)), n_null = 99,
                                    ndraws = 50, seed = 2), ex)
+})
+
+test_that("the null keeps the model's structure: residuals given the runs, covariance without delta", {
+  fit <- seb_fit
+  g <- bayesbem:::gp_geometry(fit$data, NULL, "grid")
+  par <- bayesbem:::draw_parameters(fit, 3)[[2]]
+  out <- bayesbem:::residual_given_runs(g, par)
+  # independently, on the dense algebra: y given the runs has mean m and
+  # covariance S; without the discrepancy the covariance is S - Sigma_delta
+  gd <- bayesbem:::gp_geometry(fit$data, NULL, "dense")
+  rg <- bayesbem:::residual_geometry(gd, par)
+  sigma <- bayesbem:::koh_sigma_z(rg, par)
+  f <- seq_len(12)
+  m <- drop(sigma[f, -f] %*% solve(sigma[-f, -f], rg$eta))
+  s <- sigma[f, f] - sigma[f, -f] %*% solve(sigma[-f, -f], sigma[-f, f])
+  expect_equal(out$residual, rg$y - m, tolerance = 1e-6)
+  expect_equal(out$cov, s - bayesbem:::delta_cov(gd$ff, par), tolerance = 1e-6)
+})
+
+test_that("regions name an effect that acts in part of another input's range", {
+  ex <- explain_discrepancy(seb_fit, ndraws = 50, n_null = 200, regions = TRUE, seed = 1)
+  expect_true(any(grepl("^solar, where temp < ", ex$candidate)))
+  expect_true(any(grepl("^temp > ", ex$candidate)))
+  # every observable input is a candidate, with and without regions
+  expect_true(all(c("temp", "rh", "solar") %in% ex$candidate))
+  expect_lt(sum(ex$explains), nrow(ex))
 })
 
 test_that("bad candidates get classed errors", {

@@ -1,0 +1,171 @@
+#' Which calibration parameters did the data determine?
+#'
+#' A low CVRMSE does not make the parameter posteriors trustworthy: the
+#' discrepancy can absorb what a parameter should explain (Brynjarsdottir &
+#' O'Hagan 2014), and a parameter the data say nothing about keeps its
+#' prior. `identifiability()` reports, for each calibration parameter:
+#'
+#' * how much the data taught: the posterior sd over the prior sd
+#'   (`sd_ratio`; both on the design's \[0, 1\] scale, the prior truncated to
+#'   it);
+#' * how much of the parameter's effect the discrepancy holds: for each
+#'   posterior draw, the simulator's sensitivity to the parameter at the
+#'   field rows, `s = d eta(x, tf) / d t` (central differences of the
+#'   emulator's mean given the runs), and the discrepancy's posterior mean
+#'   `delta` there (with any parametric terms of [extend()]); the
+#'   discrepancy's projection on `s`, `s' delta / s' s`, is how far the
+#'   parameter would have to move for its own effect to take over what the
+#'   discrepancy explains. `shift` is its median over draws in posterior sds
+#'   of the parameter, `alignment` the median absolute correlation of `s`
+#'   and `delta`.
+#'
+#' With `refit = TRUE` the model is also calibrated without a discrepancy
+#' (its precision's prior held at about 1e6, the same data, priors and
+#' sampler settings), and `moved` is how far the discrepancy moved each
+#' parameter: the posterior mean with it minus without it, in posterior sds.
+#' This catches what the projection cannot: a mechanism the simulator lacks
+#' that a parameter has partly absorbed (its posterior mean then depends on
+#' how much the discrepancy takes).
+#'
+#' Verdicts: **confounded with the discrepancy** when `|shift| > 2` or
+#' `|moved| > 2` (the discrepancy holds more of the parameter's effect than
+#' two posterior sds: without it the data would put the parameter outside
+#' its posterior's central 95 %; a prior or a mechanism the simulator lacks
+#' holds it where it is); otherwise **prior-driven** when `sd_ratio > 0.8`
+#' (the data barely narrowed the prior), **partly learnt** when it is above
+#' 0.5, and **learnt** below (the posterior is less than half as wide as the
+#' prior).
+#'
+#' @param fit A `koh_fit`.
+#' @param ndraws Number of posterior draws (evenly spaced) to compute the
+#'   sensitivities and projections at (the spreads use all draws).
+#' @param refit Also calibrate without the discrepancy (one more fit with the
+#'   fit's settings) and report `moved`.
+#' @param ... Unused.
+#' @return A data frame of class `koh_identifiability`: `parameter`,
+#'   `prior_sd`, `posterior_sd` (physical units), `sd_ratio`, `shift`,
+#'   `alignment`, with `refit = TRUE` `moved`, and `verdict`; a plain-language summary in `attr(, "summary")`.
+#' @family discrepancy
+#' @export
+#' @examples
+#' identifiability(seb_fit, ndraws = 50)
+identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
+  rlang::check_dots_empty()
+  check_koh_fit(fit)
+  check_count(ndraws)
+  check_bool(refit)
+  data <- fit$data
+  g <- gp_geometry(data, scale_newdata(data, field_inputs(data)[data$names$x]),
+                   fit_structure(fit))
+  draws <- draw_parameters(fit, ndraws)
+  per_draw <- lapply(draws, function(par) discrepancy_projection(g, par, data))
+  shift <- do.call(rbind, lapply(per_draw, `[[`, "shift"))
+  alignment <- do.call(rbind, lapply(per_draw, `[[`, "alignment"))
+  posterior_sd <- apply(as.matrix(fit$stanfit, pars = "tf"), 2, stats::sd)
+  lo <- data$scaling$t_min
+  span <- data$scaling$t_max - lo
+  prior_sd <- vapply(seq_len(data$q), function(k) {
+    prior_sd_scaled(fit$priors$tf[[data$names$t[k]]], lo[[k]], span[[k]])
+  }, numeric(1))
+  out <- data.frame(parameter = data$names$t, prior_sd = prior_sd * span,
+                    posterior_sd = posterior_sd * span, sd_ratio = posterior_sd / prior_sd,
+                    shift = apply(shift, 2, stats::median) / posterior_sd,
+                    alignment = apply(alignment, 2, stats::median), row.names = NULL)
+  if (refit) out$moved <- moved_by_discrepancy(fit, posterior_sd)
+  confounded <- abs(out$shift) > 2 | (if (refit) abs(out$moved) > 2 else FALSE)
+  out$verdict <- ifelse(confounded, "confounded with the discrepancy",
+                        ifelse(out$sd_ratio > 0.8, "prior-driven",
+                               ifelse(out$sd_ratio > 0.5, "partly learnt", "learnt")))
+  structure(out, class = c("koh_identifiability", "data.frame"),
+            summary = identifiability_summary(out))
+}
+
+# How far the discrepancy moved each parameter: the posterior mean with it
+# minus the mean of a refit without it (the discrepancy's precision held at
+# about 1e6, i.e. a standard deviation of 0.001 standardised units), in
+# posterior sds of the fit.
+moved_by_discrepancy <- function(fit, posterior_sd) {
+  priors <- fit$priors
+  priors$lambda_delta <- c(1e4, 1e-2)
+  without <- suppressWarnings(refit(fit, priors = priors, progress = FALSE),
+                              classes = "bayesbem_warning_convergence")
+  mean_tf <- function(f) colMeans(as.matrix(f$stanfit, pars = "tf"))
+  (mean_tf(fit) - mean_tf(without)) / posterior_sd
+}
+
+# For one draw: the simulator's sensitivity to each parameter at the field
+# rows (central differences of the emulator mean given the runs, step 0.01 on
+# the scaled scale, kept inside [0, 1]), and the discrepancy's projection on
+# it (in scaled parameter units) and correlation with it.
+discrepancy_projection <- function(g, par, data, h = 0.01) {
+  n <- data$n
+  cond <- koh_conditional(g, par)
+  delta <- cond$mean[n + seq_len(n)]
+  if (ncol(g$h) > 0L) delta <- delta + drop(g$h %*% par$gamma)
+  q <- length(par$tf)
+  result <- vapply(seq_len(q), function(k) {
+    up <- par$tf
+    down <- par$tf
+    up[k] <- min(up[k] + h, 1)
+    down[k] <- max(down[k] - h, 0)
+    s <- (runs_mean(g, par, up) - runs_mean(g, par, down)) / (up[k] - down[k])
+    c(sum(s * delta) / sum(s^2), abs(stats::cor(s, delta)))
+  }, numeric(2))
+  list(shift = result[1, ], alignment = result[2, ])
+}
+
+# The emulator's mean at the field rows given the simulation runs alone, at
+# the parameters `tf` (scaled).
+runs_mean <- function(g, par, tf) {
+  par$tf <- tf
+  fm <- field_given_runs(residual_geometry(g, par), par)
+  fm$mean + emulator_mean(g$xf, tf, par$coef)
+}
+
+# The sd of a prior on the scaled [0, 1] scale: uniform, or a normal (mean
+# in physical units, sd scaled) truncated to [0, 1].
+prior_sd_scaled <- function(prior, lo, span) {
+  if (is.null(prior) || prior$family == "uniform") {
+    return(sqrt(1 / 12))
+  }
+  mu <- (prior$mu - lo) / span
+  a <- (0 - mu) / prior$sd
+  b <- (1 - mu) / prior$sd
+  z <- stats::pnorm(b) - stats::pnorm(a)
+  m <- (stats::dnorm(a) - stats::dnorm(b)) / z
+  prior$sd * sqrt(1 + (a * stats::dnorm(a) - b * stats::dnorm(b)) / z - m^2)
+}
+
+identifiability_summary <- function(x) {
+  group <- function(verdict) x$parameter[x$verdict == verdict]
+  parts <- c(
+    if (length(group("learnt")) > 0L)
+      sprintf("The data determined %s.", paste(group("learnt"), collapse = ", ")),
+    if (length(group("partly learnt")) > 0L)
+      sprintf("The data narrowed %s only in part.", paste(group("partly learnt"), collapse = ", ")),
+    if (length(group("prior-driven")) > 0L)
+      sprintf("The data say little about %s: %s posterior is close to its prior.",
+              paste(group("prior-driven"), collapse = ", "),
+              if (length(group("prior-driven")) > 1L) "their" else "its"),
+    if (length(group("confounded with the discrepancy")) > 0L)
+      sprintf("The discrepancy holds the effect of %s: %s posterior is not where the data alone would put it (a prior or a missing mechanism holds it there).",
+              paste(group("confounded with the discrepancy"), collapse = ", "),
+              if (length(group("confounded with the discrepancy")) > 1L) "their" else "its")
+  )
+  paste(parts, collapse = " ")
+}
+
+#' @export
+print.koh_identifiability <- function(x, digits = 3, ...) {
+  rlang::check_dots_empty()
+  cat(strwrap(attr(x, "summary")), sep = "\n")
+  cat("\n")
+  print_rounded(as.data.frame(unclass(x)), digits)
+  invisible(x)
+}
+
+#' @export
+plot.koh_identifiability <- function(x, ...) {
+  rlang::check_dots_empty()
+  plot_identifiability(x)
+}

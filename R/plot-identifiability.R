@@ -1,0 +1,48 @@
+#' Map of what the data determined
+#'
+#' Each calibration parameter of [identifiability()] placed by how much the
+#' data narrowed its prior (x: posterior sd over prior sd) and by how much of
+#' its effect the discrepancy holds (y: `|shift|`, in posterior sds, log
+#' scale), coloured by verdict; dashed lines mark the verdicts' thresholds
+#' (0.5 and 0.8 on x, 2 on y).
+#'
+#' @param x A `koh_identifiability` from [identifiability()].
+#' @return `plot_identifiability()`: a ggplot. `plot_identifiability_data()`:
+#'   the table with `abs_shift`, `|shift|` floored at 0.01 for the log axis.
+#' @family plots
+#' @family discrepancy
+#' @export
+#' @examples
+#' plot_identifiability(identifiability(seb_fit, ndraws = 50))
+plot_identifiability <- function(x) {
+  d <- plot_identifiability_data(x)
+  ggplot2::ggplot(d, ggplot2::aes(.data$sd_ratio, .data$abs_shift, colour = .data$verdict)) +
+    ggplot2::geom_vline(xintercept = c(0.5, 0.8), linetype = "dashed", colour = "grey60") +
+    ggplot2::geom_hline(yintercept = 2, linetype = "dashed", colour = "grey60") +
+    ggplot2::geom_point(size = 2.5) +
+    ggplot2::geom_text(ggplot2::aes(label = .data$parameter), vjust = -0.9, size = 3,
+                       show.legend = FALSE) +
+    ggplot2::scale_y_log10() +
+    ggplot2::scale_colour_manual(values = c(learnt = "#1b6ca8", `partly learnt` = "#6fa8d6",
+                                            `prior-driven` = "grey45",
+                                            `confounded with the discrepancy` = "#c0392b"),
+                                 drop = FALSE, name = NULL) +
+    ggplot2::labs(x = "posterior sd / prior sd (1: the data taught nothing)",
+                  y = "discrepancy's share of the parameter's effect\n(|shift|, posterior sds)") +
+    ggplot2::theme_bw() +
+    ggplot2::theme(legend.position = "bottom")
+}
+
+#' @rdname plot_identifiability
+#' @export
+plot_identifiability_data <- function(x) {
+  if (!inherits(x, "koh_identifiability")) {
+    abort_bayesbem("{.arg x} must come from {.fn identifiability}, not {describe_value(x)}.",
+                   "argument")
+  }
+  d <- as.data.frame(unclass(x))
+  d$abs_shift <- pmax(abs(d$shift), 0.01)
+  d$verdict <- factor(d$verdict, levels = c("learnt", "partly learnt", "prior-driven",
+                                            "confounded with the discrepancy"))
+  d
+}

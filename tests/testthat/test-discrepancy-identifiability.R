@@ -1,0 +1,69 @@
+test_that("the shipped fit's verdicts agree with the paper's findings", {
+  x <- identifiability(seb_fit, ndraws = 100)
+  expect_s3_class(x, "koh_identifiability")
+  verdict <- stats::setNames(x$verdict, x$parameter)
+  # the paper: equipment power density is determined (about 5-18 W/m2 of
+  # 3-30), fan efficiency hardly (spread over its range), and with flat
+  # priors the discrepancy holds no parameter's effect
+  expect_equal(verdict[["equipment_power_density"]], "learnt")
+  expect_true(verdict[["fan_total_efficiency"]] %in% c("partly learnt", "prior-driven"))
+  expect_false(any(verdict == "confounded with the discrepancy"))
+  # posterior and prior spreads, independently: the flat prior's sd is the
+  # design range over sqrt(12)
+  draws <- posterior::as_draws_matrix(seb_fit)
+  s <- seb_fit$data$scaling
+  expect_equal(x$posterior_sd, unname(apply(unclass(draws)[, x$parameter], 2, stats::sd)))
+  expect_equal(x$prior_sd, unname((s$t_max - s$t_min) / sqrt(12)))
+  expect_match(attr(x, "summary"), "The data determined equipment_power_density")
+})
+
+test_that("the shift is the discrepancy's projection on the simulator's sensitivity", {
+  data <- seb_fit$data
+  g <- bayesbem:::gp_geometry(data, bayesbem:::scale_newdata(data, data$field[data$names$x]), "grid")
+  par <- bayesbem:::draw_parameters(seb_fit, 5)[[3]]
+  out <- bayesbem:::discrepancy_projection(g, par, data)
+  # independently: the sensitivity by finite differences of the emulator's
+  # mean given the runs, on the dense (non-grid) algebra
+  gd <- bayesbem:::gp_geometry(data, NULL, "dense")
+  em <- function(tf) {
+    par$tf <- tf
+    fm <- bayesbem:::field_given_runs(bayesbem:::residual_geometry(gd, par), par)
+    fm$mean + bayesbem:::emulator_mean(gd$xf, tf, par$coef)
+  }
+  up <- par$tf
+  up[2] <- up[2] + 0.01
+  down <- par$tf
+  down[2] <- down[2] - 0.01
+  sens <- (em(up) - em(down)) / 0.02
+  cond <- bayesbem:::koh_conditional(g, par)
+  delta <- cond$mean[13:24]
+  expect_equal(out$shift[2], sum(sens * delta) / sum(sens^2), tolerance = 1e-6)
+  expect_equal(out$alignment[2], abs(stats::cor(sens, delta)), tolerance = 1e-6)
+})
+
+test_that("a parameter held away from the truth by a specific prior is confounded", {
+  case <- synthetic_case("none")
+  # the truth is 15 W/m2: a specific prior at 24 holds the parameter there
+  priors <- koh_priors(tf = list(equipment_power_density = prior_normal(24, 0.05)))
+  train <- case$field[-synthetic_held_out, c("y", "temp", "rh", "solar")]
+  held <- suppressWarnings(
+    calibrate(train, case$base$data$sim, priors = priors, chains = 2, iter = 500, seed = 3,
+              refresh = 0),
+    classes = "bayesbem_warning_convergence")
+  x <- identifiability(held, ndraws = 60)
+  verdict <- stats::setNames(x$verdict, x$parameter)
+  expect_equal(verdict[["equipment_power_density"]], "confounded with the discrepancy")
+  # the same data with flat priors: nothing confounded
+  base <- identifiability(case$base, ndraws = 60)
+  expect_false(any(base$verdict == "confounded with the discrepancy"))
+  expect_s3_class(plot(x), "ggplot")
+  d <- plot_identifiability_data(x)
+  expect_equal(d$abs_shift, pmax(abs(x$shift), 0.01))
+})
+
+test_that("identifiability() checks its arguments", {
+  expect_error(identifiability(list()), class = "bayesbem_error_argument")
+  expect_error(identifiability(seb_fit, ndraws = 0), class = "bayesbem_error_argument")
+  expect_error(identifiability(seb_fit, draws = 5), class = "rlib_error_dots_nonempty")
+  expect_error(plot_identifiability_data(seb_fit), class = "bayesbem_error_argument")
+})
