@@ -79,6 +79,10 @@ test_that("the parameter map is checked by EnergyPlus at both ends of the ranges
   map <- eplus_parameter_map()
   map$apply[1] <- "add"
   expect_error(seb_eplus(map = map), class = "bayesbem_error_parameters")
+  # a number for a field that takes a choice: EnergyPlus's converter says so
+  map <- eplus_parameter_map()
+  map$field[map$parameter == "lighting_power_density"] <- "Design Level Calculation Method"
+  expect_snapshot(seb_eplus(map = map), error = TRUE)
   expect_error(seb_eplus(measures = list(nothing = function(model, value) model)),
                class = "bayesbem_error_parameters")
 })
@@ -95,6 +99,19 @@ test_that("a field that acts only under a calculation method is set with it or r
   map$apply[map$parameter == "lighting_power_density"] <- "multiply"
   map[map$parameter == "lighting_power_density", c("initial", "min", "max")] <- list(1, 0.5, 1.5)
   expect_snapshot(seb_eplus(model = model, map = map), error = TRUE)
+})
+
+test_that("gas is an output like electricity", {
+  skip_if_no_eplus()
+  gas <- seb_eplus(output = "NaturalGas:Facility")
+  out <- simulate_design(gas, data.frame(heating_setpoint = c(15, 20)))
+  # the furnace burns gas in winter: more at the higher heating setpoint
+  expect_gt(sum(out$eta[13:24]), sum(out$eta[1:12]))
+  expect_gt(out$eta[1], out$eta[7])
+  run <- eplus_run(seb_model(), shipped_epw(2013))
+  monthly <- eplus_output(run, "NaturalGas:Facility", frequency = "Monthly")
+  base <- simulate_design(gas, data.frame(heating_setpoint = 18.3))
+  expect_equal(base$eta, monthly$value, tolerance = 1e-6)
 })
 
 test_that("a failed run keeps the others and quotes EnergyPlus; the cache sees the model", {
