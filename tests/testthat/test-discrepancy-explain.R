@@ -74,7 +74,17 @@ test_that("the null keeps the model's structure: residuals given the runs, covar
   m <- drop(sigma[f, -f] %*% solve(sigma[-f, -f], rg$eta))
   s <- sigma[f, f] - sigma[f, -f] %*% solve(sigma[-f, -f], sigma[-f, f])
   expect_equal(out$residual, rg$y - m, tolerance = 1e-6)
-  expect_equal(out$cov, s - bayesbem:::delta_cov(gd$ff, par), tolerance = 1e-6)
+  expect_equal(out$emulator + diag(out$noise, 12), s - bayesbem:::delta_cov(gd$ff, par),
+               tolerance = 1e-6)
+  expect_equal(out$noise, 1 / par$lambda_e)
+})
+
+test_that("the emulator's inflation is the same on the grid and on the dense algebra", {
+  pars <- bayesbem:::draw_parameters(seb_fit, 4)
+  grid <- bayesbem:::emulator_inflation(bayesbem:::gp_geometry(seb_fit$data, NULL, "grid"), pars)
+  dense <- bayesbem:::emulator_inflation(bayesbem:::gp_geometry(seb_fit$data, NULL, "dense"), pars)
+  expect_equal(grid, dense, tolerance = 1e-6)
+  expect_gte(grid, 1)
 })
 
 test_that("regions name an effect that acts in part of another input's range", {
