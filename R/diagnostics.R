@@ -47,8 +47,8 @@ emulator_draws <- function(fit) {
   b_names <- mean_term_names(fit$priors, d)
   arr <- as.array(fit$emulator$stanfit,
                   pars = c("beta_eta", "lambda_eta", if (length(b_names) > 0L) "b"))
-  dimnames(arr)[[3]] <- c(sprintf("beta_eta[%s]", c(d$names$x, d$names$t)), "lambda_eta",
-                          sprintf("b[%s]", b_names))
+  names <- emulator_draw_names(d, b_names)
+  dimnames(arr)[[3]] <- c(names$beta_eta, "lambda_eta", names$b)
   posterior::as_draws_array(arr)
 }
 

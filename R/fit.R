@@ -199,17 +199,23 @@ as_draws_array.koh_fit <- function(x, ...) {
     arr[, , tf[k]] <- arr[, , tf[k]] * (d$scaling$t_max[[k]] - d$scaling$t_min[[k]]) +
       d$scaling$t_min[[k]]
   }
-  dimnames(arr)[[3]] <- c(d$names$t,
-                          sprintf("beta_eta[%s]", c(d$names$x, d$names$t)),
+  dimnames(arr)[[3]] <- c(d$names$t, emulator_draw_names(d)$beta_eta,
                           sprintf("beta_delta[%s]", d$names$x),
                           "lambda_eta", "lambda_delta", "lambda_e",
-                          sprintf("gamma[%s]", h_names), sprintf("b[%s]", b_names), "lp__")
+                          sprintf("gamma[%s]", h_names), emulator_draw_names(d, b_names)$b, "lp__")
   # discrepancy-term coefficients in output units per covariate unit
   for (k in seq_along(h_names)) {
     j <- sprintf("gamma[%s]", h_names[k])
     arr[, , j] <- arr[, , j] * d$scaling$y_scale / d$h_scale[[k]]
   }
   posterior::as_draws_array(arr)
+}
+
+# Names of the emulator's draws: its correlation parameter per input and
+# calibration parameter, and its mean's coefficients.
+emulator_draw_names <- function(d, b_names = character()) {
+  list(beta_eta = sprintf("beta_eta[%s]", c(d$names$x, d$names$t)),
+       b = sprintf("b[%s]", b_names))
 }
 
 # The terms of the emulator mean: "intercept" and the names of the inputs
