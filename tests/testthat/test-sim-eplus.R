@@ -163,6 +163,10 @@ test_that("a zone temperature is averaged over months and days (1ZoneUncontrolle
   expect_equal(m$eta, as.vector(tapply(d$eta, list(month, run), mean)), tolerance = 1e-9)
   # more internal gain, a warmer zone in every month
   expect_true(all(m$eta[13:24] > m$eta[1:12] + 1))
+  # weeks: seven days from the first record (the last one shorter)
+  weekly <- simulate_design(one_zone("week"), design[1, , drop = FALSE])
+  week <- (seq_len(365) - 1) %/% 7 + 1
+  expect_equal(weekly$eta, as.vector(tapply(d$eta[1:365], week, mean)), tolerance = 1e-9)
 })
 
 test_that("Morris screening, a Latin hypercube, calibration and the closed loop run on EnergyPlus", {
