@@ -253,11 +253,11 @@ expand_objects <- function(path, dir, call = rlang::caller_env()) {
   writeLines(readLines(path, warn = FALSE), file.path(out, "in.idf"))
   file.copy(file.path(dir, "Energy+.idd"), out)
   exe <- file.path(dir, if (.Platform$OS.type == "windows") "ExpandObjects.exe" else "ExpandObjects")
-  result <- processx::run(exe, wd = out, error_on_status = FALSE, timeout = 120)
+  result <- run_program(exe, character(), out, timeout = 120)
   expanded <- file.path(out, "expanded.idf")
   if (result$status != 0L || !file.exists(expanded)) {
     abort_bayesbem(c("EnergyPlus's ExpandObjects could not expand the {.field HVACTemplate} objects of {.file {basename(path)}}.",
-                     x = "{utils::tail(strsplit(result$stdout, '\n')[[1]], 2)}"),
+                     x = "{utils::tail(result$output, 2)}"),
                    "eplus_model", call = call)
   }
   expanded

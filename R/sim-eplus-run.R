@@ -1,7 +1,7 @@
 #' Run an EnergyPlus model
 #'
 #' `eplus_run()` runs a model (see [eplus_model()]) on a weather file in a
-#' folder of its own, through processx with a time limit (`HVACTemplate:*`
+#' folder of its own, under a time limit (`HVACTemplate:*`
 #' objects were expanded when the model was read): `Output:SQLite` is
 #' added when the model lacks it, and the fields of the model are checked by
 #' EnergyPlus's converter beforehand (a field name EnergyPlus does not know
@@ -12,7 +12,8 @@
 #' @param model A `bayesbem_eplus_model`.
 #' @param weather Path of the EPW weather file (or `.epw.gz`).
 #' @param dir Folder for the run's files; by default a new temporary folder.
-#' @param timeout Time limit of the run in seconds.
+#' @param timeout Time limit of the run in seconds (whole seconds, rounded
+#'   up).
 #' @param eplus Directory of EnergyPlus, see [eplus_path()].
 #' @param run A `bayesbem_eplus_run` from `eplus_run()`.
 #' @return `eplus_run()`: a `bayesbem_eplus_run`, a list with the run's
@@ -82,13 +83,25 @@ run_model <- function(model, weather, eplus, dir, timeout, call = rlang::caller_
 # completed successfully (eplusout.end says so).
 run_energyplus <- function(eplus, args, dir, timeout) {
   start <- Sys.time()
-  out <- processx::run(eplus_exe(eplus), args, wd = dir, error_on_status = FALSE,
-                       timeout = timeout, cleanup_tree = TRUE)
+  out <- run_program(eplus_exe(eplus), args, dir, timeout)
   end <- file.path(dir, "eplusout.end")
-  ok <- !isTRUE(out$timeout) && file.exists(end) &&
+  ok <- !out$timeout && file.exists(end) &&
     grepl("Completed Successfully", readLines(end, warn = FALSE)[1])
-  list(ok = ok, timeout = isTRUE(out$timeout), limit = timeout, dir = dir,
-       output = out$stdout, time = as.numeric(difftime(Sys.time(), start, units = "secs")))
+  list(ok = ok, timeout = out$timeout, limit = ceiling(timeout), dir = dir,
+       output = out$output, time = as.numeric(difftime(Sys.time(), start, units = "secs")))
+}
+
+# A program run from `wd` under a time limit (whole seconds, rounded up),
+# with its output. Base system2() rather than processx: processx replaces
+# R's SIGCHLD handler, after which the forked chains of calibrate() are no
+# longer reaped ("Error while shutting down parallel", r-lib/processx#236).
+run_program <- function(exe, args, wd, timeout) {
+  old <- setwd(wd)
+  on.exit(setwd(old), add = TRUE)
+  output <- suppressWarnings(system2(exe, shQuote(args), stdout = TRUE, stderr = TRUE,
+                                     timeout = ceiling(timeout)))
+  status <- attr(output, "status") %||% 0L
+  list(status = status, timeout = identical(as.integer(status), 124L), output = as.vector(output))
 }
 
 # EnergyPlus's messages are quoted, not interpolated (they hold braces).
@@ -100,7 +113,7 @@ abort_eplus_errors <- function(result, what, ..., call = rlang::caller_env(),
     lines <- c(sprintf("the run took longer than its time limit of %s s", format(result$limit)),
                lines)
   }
-  if (length(lines) == 0L) lines <- utils::tail(strsplit(result$output, "\n")[[1]], 3)
+  if (length(lines) == 0L) lines <- utils::tail(result$output, 3)
   lines <- gsub("}", "}}", gsub("{", "{{", utils::head(lines, 6), fixed = TRUE), fixed = TRUE)
   abort_bayesbem(c(what, stats::setNames(lines, rep("x", length(lines))), ...),
                  "eplus_run", errors = errors, call = call, .envir = .envir)

@@ -47,7 +47,7 @@
 #' @param key For an output variable reported for several objects, which one
 #'   (e.g. a zone name).
 #' @param by Field periods: `"month"`, `"week"` or `"day"`.
-#' @param timeout Time limit of each run, in seconds.
+#' @param timeout Time limit of each run, in seconds (whole seconds, rounded up).
 #' @param eplus Directory of EnergyPlus, see [eplus_path()].
 #' @return A `bayesbem_simulator`.
 #' @family EnergyPlus

@@ -17,7 +17,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   r-cran-testthat r-cran-roxygen2 r-cran-knitr r-cran-rmarkdown r-cran-vdiffr \
   r-cran-rcpparmadillo r-cran-proxy r-cran-clue r-cran-ggrepel r-cran-rspectra \
   r-cran-shinyjs r-cran-iterators r-cran-modeltools r-cran-foreach \
-  r-cran-dbi r-cran-rsqlite r-cran-processx r-cran-jsonlite \
+  r-cran-dbi r-cran-rsqlite r-cran-jsonlite \
   > /dev/null
 echo "install-deps: Debian packages installed"
 

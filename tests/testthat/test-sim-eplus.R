@@ -120,7 +120,7 @@ test_that("a failed run keeps the others and quotes EnergyPlus; the cache sees t
   base <- stats::setNames(as.list(sim$parameters$initial), sim$parameters$parameter)
   expect_error(sim$fun(utils::modifyList(base, list(fan_total_efficiency = -1)), sim$x),
                class = "bayesbem_error_eplus_run")
-  slow <- seb_eplus(timeout = 0.5)
+  slow <- seb_eplus(timeout = 1)
   expect_warning(out <- simulate_design(slow, data.frame(equipment_power_density = 10)),
                  class = "bayesbem_warning_simulation")
   expect_match(attr(out, "failed")$error, "time limit")
