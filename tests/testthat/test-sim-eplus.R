@@ -145,7 +145,8 @@ one_zone_map <- function() {
 }
 
 one_zone <- function(by = "month") {
-  eplus_simulator(example_model_path("1ZoneUncontrolled_25_2.idf"), shipped_epw(2013),
+  path <- example_model_path("1ZoneUncontrolled_25_2.idf")
+  eplus_simulator(path, shipped_epw(2013),
                   map = one_zone_map(), output = "Zone Mean Air Temperature", by = by)
 }
 
