@@ -18,10 +18,7 @@
 #' @family EnergyPlus
 #' @export
 eplus_output <- function(run, name, key = NULL, frequency = "Daily") {
-  if (!inherits(run, "bayesbem_eplus_run")) {
-    abort_bayesbem("{.arg run} must be a run from {.fn eplus_run}, not {describe_value(run)}.",
-                   "argument")
-  }
+  check_eplus_run(run)
   con <- DBI::dbConnect(RSQLite::SQLite(), run$sql, flags = RSQLite::SQLITE_RO)
   on.exit(DBI::dbDisconnect(con), add = TRUE)
   entry <- output_entry(con, name, key, frequency)

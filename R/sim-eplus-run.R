@@ -46,11 +46,15 @@ eplus_run <- function(model, weather, dir = NULL, timeout = 600, eplus = NULL) {
 #' @rdname eplus_run
 #' @export
 eplus_errors <- function(run) {
+  check_eplus_run(run)
+  read_err(file.path(run$dir, "eplusout.err"))
+}
+
+check_eplus_run <- function(run, call = rlang::caller_env()) {
   if (!inherits(run, "bayesbem_eplus_run")) {
     abort_bayesbem("{.arg run} must be a run from {.fn eplus_run}, not {describe_value(run)}.",
-                   "argument")
+                   "argument", call = call)
   }
-  read_err(file.path(run$dir, "eplusout.err"))
 }
 
 #' @export
