@@ -22,7 +22,11 @@
 #' the residual and the candidate are first made orthogonal to what
 #' recalibration can do: a constant and, per calibration parameter, the
 #' direction in which `eta` at the field rows moves with it (the covariance
-#' of the `eta` draws with the `tf` draws). The candidate's `share` is the
+#' of the `eta` draws with the `tf` draws), then, while there are at least
+#' three field rows per column, the output's curvature in the parameters
+#' (covariances with the squares and products of the `tf` draws): a
+#' parameter's error moves heating and cooling months differently, and a
+#' linear correction alone leaves a step at the switch between them. The candidate's `share` is the
 #' fraction of the remaining residual variance it explains (a partial R^2),
 #' summarised over draws by its mean and a central interval. A candidate
 #' that only mimics a parameter's effect gets a share near zero: the data
@@ -56,9 +60,13 @@
 #' @param n_null Number of simulated null residuals.
 #' @param ndraws Number of posterior draws (evenly spaced); all by default.
 #' @param regions Also try steps in each input and each candidate's effect
-#'   in part of another input's range (see Details). Off by default: on
-#'   data without a hidden effect these terms raise more alarms than
-#'   `alpha` (`bench/RESULTS.md`).
+#'   in part of another input's range (see Details); [extend()] takes the
+#'   names it gives. Off by default: on data without a hidden effect these
+#'   terms raised alarms in 4 of 44 data sets (9 %, above `alpha`), mostly
+#'   a step at the simulator's switch from heating to cooling, where its
+#'   emulator errs more than it states (`bench/RESULTS.md`). Use it when
+#'   the named inputs alone leave a cause unexplained, and read a region
+#'   at a regime switch with care.
 #' @param seed Random seed of the null residuals.
 #' @return A data frame of class `koh_explanation`, the explaining candidates
 #'   first, each group by `share`: `candidate`, `share`, `lower`, `upper`
@@ -115,32 +123,64 @@ main_terms <- function(candidates) {
   })
 }
 
-# Effects that act in part of an input's range, at each quartile, tertile
-# and median `c` of each observable input `b` (parts of at least 5 rows): a
-# threshold, "b > c" (a step where b passes c), and for each other
-# candidate `a`, its effect only on one side, "a, where b < c" (a / sd(a)
-# there, 0 elsewhere: not centred, so a gain that only acts there, such as
-# solar gains in cold months, is one term).
+# Effects that act in part of an input's range, at the thresholds `c` of
+# each observable input `b` (region_cuts()): a step where b passes c, "b >
+# c", and for each other candidate `a`, its effect only on one side, "a,
+# where b < c" (a there, 0 elsewhere: not centred, so a gain that only acts
+# there, such as solar gains in cold months, is one term). Each term is
+# computed from its name by region_values(), in the units of `a`, so that
+# extend() and predict() rebuild it from the name alone.
 region_terms <- function(candidates, inputs) {
-  terms <- list()
-  for (b in names(inputs)) {
-    x <- inputs[[b]]
-    if (length(unique(x)) < 3L) next
-    for (cut in unique(stats::quantile(x, c(1, 1.5, 2, 2.5, 3) / 4, names = FALSE))) {
-      above <- x > cut
-      if (min(sum(above), sum(!above)) < 5L) next
-      label <- format(signif(cut, 3))
-      terms[[sprintf("%s > %s", b, label)]] <- cbind(as.numeric(above))
-      for (side in c("<", ">")) {
-        inside <- if (side == "<") !above else above
-        for (a in setdiff(names(candidates), b)) {
-          v <- candidates[[a]]
-          terms[[sprintf("%s, where %s %s %s", a, b, side, label)]] <- cbind(v / stats::sd(v) * inside)
-        }
-      }
-    }
+  labels <- unlist(lapply(names(inputs), function(b) {
+    lapply(region_cuts(inputs[[b]]), function(cut) {
+      label <- format(cut, digits = 15)
+      others <- setdiff(names(candidates), b)
+      c(sprintf("%s > %s", b, label),
+        sprintf("%s, where %s %s %s", rep(others, 2), b, rep(c("<", ">"), each = length(others)), label))
+    })
+  }))
+  stats::setNames(lapply(labels, function(l) cbind(region_values(l, candidates))), labels)
+}
+
+# The thresholds of one input: at each quartile, tertile and median, the
+# shortest decimal that splits the values as the quantile does (so that a
+# region's name defines it exactly), with at least 5 rows on each side.
+region_cuts <- function(x) {
+  values <- sort(unique(x))
+  if (length(values) < 3L) {
+    return(numeric(0))
   }
-  terms
+  cuts <- vapply(stats::quantile(x, c(1, 1.5, 2, 2.5, 3) / 4, names = FALSE), function(q) {
+    lower <- max(values[values <= q])
+    upper <- min(values[values > q], Inf)
+    digits <- seq_len(15)
+    short <- signif((lower + upper) / 2, digits)
+    short[short >= lower & short < upper][1]
+  }, numeric(1))
+  cuts <- unique(cuts[is.finite(cuts)])
+  cuts[vapply(cuts, function(cut) min(sum(x > cut), sum(x <= cut)) >= 5L, logical(1))]
+}
+
+# The values of a region term named as explain_discrepancy() prints it ("a,
+# where b < c", "b > c") or as a covariate column ("a:b<c", "b>c"), from the
+# columns of `table`: a where b <= c (or b > c), 0 elsewhere; a step is 1
+# where b > c. NULL when `name` is no such name or names columns `table`
+# lacks.
+region_values <- function(name, table) {
+  parts <- regmatches(region_column_name(name),
+                      regexec("^(?:([^:]+):)?([^<>]+)([<>])(.+)$", region_column_name(name)))[[1]]
+  cut <- suppressWarnings(as.numeric(parts[5]))
+  if (length(parts) == 0L || is.na(cut) || !all(setdiff(parts[2:3], "") %in% names(table))) {
+    return(NULL)
+  }
+  inside <- if (parts[4] == ">") table[[parts[3]]] > cut else table[[parts[3]]] <= cut
+  if (nzchar(parts[2])) table[[parts[2]]] * inside else as.numeric(inside)
+}
+
+# A region's name as a covariate column (and in `gamma[<name>]`): no commas
+# or spaces, "occupancy, where temp > 14.9" -> "occupancy:temp>14.9".
+region_column_name <- function(region) {
+  gsub(" ", "", sub(", where ", ":", region, fixed = TRUE), fixed = TRUE)
 }
 
 # The observable inputs and the covariates, checked.
@@ -206,13 +246,26 @@ emulator_inflation <- function(g, pars) {
   max(1, mean(kappa))
 }
 
-# What recalibration can do to the output at the field rows (n x (1 + q)):
-# a constant, and the covariance of the eta draws (S x n) with each column
-# of the tf draws (S x q). Its column span is that of the regression slopes
-# of eta on tf, without inverting the (often near-singular) tf covariance.
+# What recalibration can do to the output at the field rows (n columns of
+# a basis): a constant, the covariance of the eta draws (S x n) with each
+# column of the centred tf draws (S x q), and then with their squares and
+# products, while the basis has at most n / 3 columns. The first-order
+# columns span the regression slopes of eta on tf without inverting the
+# (often near-singular) tf covariance; the second-order ones, the output's
+# curvature in the parameters (measured: an equipment or infiltration
+# error moves heating and cooling months differently, so a linear
+# correction leaves a step at the regime switch, which region terms then
+# named in 6 of 19 data sets without a hidden effect).
 recalibration_basis <- function(eta, tf) {
   centre <- function(m) sweep(m, 2, colMeans(m))
-  cbind(1, crossprod(centre(eta), centre(tf)))
+  tf <- centre(tf)
+  q <- ncol(tf)
+  pairs <- which(upper.tri(diag(q), diag = TRUE), arr.ind = TRUE)
+  pairs <- pairs[order(pairs[, "row"] != pairs[, "col"]), , drop = FALSE]
+  second <- tf[, pairs[, 1], drop = FALSE] * tf[, pairs[, 2], drop = FALSE]
+  features <- cbind(tf, centre(second))
+  keep <- seq_len(max(q, min(ncol(features), floor(ncol(eta) / 3) - 1L)))
+  cbind(1, crossprod(centre(eta), features[, keep, drop = FALSE]))
 }
 
 # Share of the residual variance a term explains beyond recalibration

@@ -24,7 +24,12 @@
 #'
 #' @param fit A `koh_fit`.
 #' @param with Names of the covariates to add as discrepancy terms: columns
-#'   of `covariates`, or observable inputs of the fit.
+#'   of `covariates`, observable inputs of the fit, or regions of them as
+#'   [explain_discrepancy()] names them with `regions = TRUE` ("temp > 11.8",
+#'   a step: 1 above, 0 below; "occupancy, where temp > 14.9", occupancy
+#'   there and 0 elsewhere; any threshold can be given), added as columns
+#'   `temp>11.8` and `occupancy:temp>14.9`. [predict()] computes these
+#'   columns from `newdata`'s own columns when it lacks them.
 #' @param covariates A data frame with one row per field row (in the field
 #'   data's order).
 #' @param sim A new simulation table, in the layout of [koh_data()] (by
@@ -83,10 +88,16 @@ extension_covariates <- function(data, with, covariates, call = rlang::caller_en
     covariates <- covariate_table(covariates, data$n, call = call)
     pool <- cbind(pool, covariates[setdiff(names(covariates), names(pool))])
   }
+  for (name in setdiff(with, names(pool))) {
+    values <- region_values(name, pool)
+    if (is.null(values)) next
+    pool[[region_column_name(name)]] <- values
+    with[with == name] <- region_column_name(name)
+  }
   unknown <- setdiff(with, names(pool))
   if (length(unknown) > 0L) {
-    abort_bayesbem(c("{.arg with} names {.field {unknown}}, neither an observable input nor a column of {.arg covariates}.",
-                     i = "Available: {.field {names(pool)}}."),
+    abort_bayesbem(c("{.arg with} names {.field {unknown}}, neither an observable input, a column of {.arg covariates} nor a region of them.",
+                     i = "Available: {.field {names(pool)}}, and regions of them as {.fn explain_discrepancy} names them, e.g. {.val {names(pool)[1]} > 10} or {.val {names(pool)[2]}, where {names(pool)[1]} < 10}."),
                    "columns", call = call)
   }
   old <- data$covariates

@@ -123,6 +123,11 @@ field_inputs <- function(data) {
 # The covariates of a fit's discrepancy terms at `newdata`, scaled as in the fit.
 scale_covariates <- function(data, newdata, call = rlang::caller_env()) {
   needed <- names(data$covariates)
+  # region terms added by extend() are rebuilt from their names
+  for (name in setdiff(needed, names(newdata))) {
+    values <- region_values(name, newdata)
+    if (!is.null(values)) newdata[[name]] <- values
+  }
   missing <- setdiff(needed, names(newdata))
   if (length(missing) > 0L) {
     abort_bayesbem(c("{.arg newdata} has no column{?s} {.field {missing}}.",

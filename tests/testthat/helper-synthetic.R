@@ -35,7 +35,9 @@ synthetic_effects <- list(
   none = NULL,
   input = function(d) 250 * (d$rh > 47),       # dehumidification the simulator lacks
   covariate = function(d) 250 * d$occupancy,    # events the simulator does not know
-  step = function(d) 200 * d$after_change       # equipment added in month 15
+  step = function(d) 200 * d$after_change,      # equipment added in month 15
+  # events that cost energy only in the cooling season
+  interaction = function(d) 300 * d$occupancy * (d$temp > 15)
 )
 
 synthetic_case <- local({

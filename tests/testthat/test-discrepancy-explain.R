@@ -16,6 +16,19 @@ test_that("each hidden effect is flagged and its cause ranks first", {
   }
 })
 
+test_that("an effect in part of another input's range is named with both inputs", {
+  skip_on_cran()
+  # occupancy costs energy only where temp > 15: the region term at the
+  # nearest quantile (14) explains nearly all of the residual
+  case <- synthetic_case("interaction")
+  ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, regions = TRUE,
+                            seed = 1)
+  expect_match(ex$candidate[1], "^occupancy, where temp > 14")
+  expect_true(ex$explains[1])
+  expect_gt(ex$share[1], 0.7)
+  expect_match(attr(ex, "verdict"), "occupancy, where temp > 14")
+})
+
 test_that("a correct simulator gets no cause in the large majority of data draws", {
   skip_on_cran()
   # four noise draws of data without a hidden effect; with alpha = 0.05
@@ -77,6 +90,24 @@ test_that("the null keeps the model's structure: residuals given the runs, covar
   expect_equal(out$emulator + diag(out$noise, 12), s - bayesbem:::delta_cov(gd$ff, par),
                tolerance = 1e-6)
   expect_equal(out$noise, 1 / par$lambda_e)
+})
+
+test_that("recalibration removes the output's curvature in the parameters", {
+  # eta draws exactly quadratic in tf: nothing is left after projection
+  tf <- withr::with_seed(1, matrix(stats::rnorm(400), 200))
+  x <- seq(0, 1, length.out = 30)
+  eta <- outer(tf[, 1], sin(3 * x)) + outer(tf[, 2], x) + outer(tf[, 1]^2, (x > 0.5) * 1) +
+    outer(tf[, 1] * tf[, 2], x^2)
+  basis <- bayesbem:::recalibration_basis(eta, tf)
+  expect_equal(dim(basis), c(30, 6))
+  centred <- sweep(eta, 2, colMeans(eta))
+  expect_lt(max(abs(qr.resid(qr(basis), t(centred)))), 1e-8)
+  # the linear part alone leaves the step at x = 0.5
+  linear <- qr(basis[, 1:3])
+  expect_gt(max(abs(qr.resid(linear, t(centred)))), 0.1)
+  # at most n / 3 columns, never fewer than the linear ones
+  expect_equal(ncol(bayesbem:::recalibration_basis(eta[, 1:12], tf)), 4)
+  expect_equal(ncol(bayesbem:::recalibration_basis(eta[, 1:6], tf)), 3)
 })
 
 test_that("the emulator's inflation is the same on the grid and on the dense algebra", {

@@ -48,3 +48,52 @@ test_that("covariates are divided by their range, not centred", {
   hours <- bayesbem:::add_discrepancy_terms(d, data.frame(working_days = working$working_days * 8))
   expect_equal(hours$h, ext$h)
 })
+
+test_that("a region named by explain_discrepancy() becomes a covariate in its own units", {
+  d <- seb_fit$data
+  temp <- d$field$temp
+  occupancy <- data.frame(occupancy = seq(0.1, 1.2, by = 0.1))
+  terms <- bayesbem:::extension_covariates(d, c("occupancy, where temp > 10", "temp > 10",
+                                                "occupancy:temp<10"), occupancy)
+  expect_named(terms, c("occupancy:temp>10", "temp>10", "occupancy:temp<10"))
+  expect_equal(terms[[1]], occupancy$occupancy * (temp > 10))
+  expect_equal(terms[[2]], as.numeric(temp > 10))
+  expect_equal(terms[[3]], occupancy$occupancy * (temp <= 10))
+  # the name must name columns there are
+  expect_error(bayesbem:::extension_covariates(d, "people, where temp > 10", occupancy),
+               class = "bayesbem_error_columns")
+})
+
+test_that("region thresholds split as the quantiles do, and their names define them", {
+  x <- c(0.1, 1.06, 1.7, 3.9, 4.4, 6.1, 8.9, 10.3, 10.3, 12.1, 14.12, 15.4, 18.8, 21.4, 22.3,
+         22.6, 23.2, 23.8)
+  cuts <- bayesbem:::region_cuts(x)
+  q <- stats::quantile(x, c(1, 1.5, 2, 2.5, 3) / 4, names = FALSE)
+  kept <- vapply(q, function(v) min(sum(x > v), sum(x <= v)) >= 5, logical(1))
+  expect_equal(lapply(cuts, function(cut) x > cut), unique(lapply(q[kept], function(v) x > v)))
+  # shortest decimals: 10.3 < 11 < 12.1 for the median 11.2, 4.4 < 5 < 6.1, ...
+  expect_equal(cuts, c(5, 10, 11, 15, 20))
+  terms <- bayesbem:::region_terms(data.frame(x = x, w = x^2), data.frame(x = x))
+  expect_equal(drop(terms[["w, where x > 11"]]), x^2 * (x > 11))
+  expect_equal(drop(terms[["w, where x < 11"]]), x^2 * (x <= 11))
+  expect_equal(drop(terms[["x > 11"]]), as.numeric(x > 11))
+})
+
+test_that("an extension by a region predicts from the inputs it names", {
+  skip_on_cran()
+  case <- synthetic_case("interaction")
+  ext <- synthetic_extension("interaction", "occupancy, where temp > 15")
+  expect_equal(names(ext$data$covariates), "occupancy:temp>15")
+  # the hidden effect is 300 kWh per unit of occupancy where temp > 15
+  gamma <- posterior::as_draws_df(ext)$`gamma[occupancy:temp>15]`
+  expect_gt(mean(gamma), 200)
+  expect_lt(mean(gamma), 400)
+  # predictions rebuild the column from occupancy and temp
+  given <- case$holdout
+  given[["occupancy:temp>15"]] <- given$occupancy * (given$temp > 15)
+  draws <- function(newdata) {
+    suppressWarnings(withr::with_seed(1, bayesbem:::predict_draws(ext, newdata, ndraws = 20)),
+                     classes = "bayesbem_warning_extrapolation")
+  }
+  expect_equal(draws(case$holdout), draws(given))
+})
