@@ -107,8 +107,6 @@ posterior_runs <- function(fit, simulator, ndraws, cache_dir, call = rlang::call
   check_count(ndraws, call = call)
   rows <- simulator_rows(fit, simulator, call)
   data <- fit$data
-  total <- nrow(as.matrix(fit$stanfit, pars = "lambda_e"))
-  index <- draw_subset(total, ndraws)
   draws <- draw_parameters(fit, ndraws)
   tf <- unscale_t(do.call(rbind, lapply(draws, `[[`, "tf")), data$scaling)
   range <- simulator$parameters[match(data$names$t, simulator$parameters$parameter), ]
@@ -125,7 +123,8 @@ posterior_runs <- function(fit, simulator, ndraws, cache_dir, call = rlang::call
     abort_bayesbem("Every simulation run at the posterior draws failed.", "simulation", call = call)
   }
   eta[ok, ] <- matrix(out$eta, nrow = length(ok), byrow = TRUE)
-  list(draws = draws, index = index, eta = eta[, rows, drop = FALSE], design = design)
+  list(draws = draws, index = attr(draws, "index"), eta = eta[, rows, drop = FALSE],
+       design = design)
 }
 
 # The simulator's periods that are the fit's field rows, matched by the

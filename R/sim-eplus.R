@@ -84,8 +84,9 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
     at <- stats::setNames(as.list(parameters[[end]]), parameters$parameter)
     check_model_fields(apply_parameters(model, map, measures, at), eplus)
   }
-  days <- weather_days(weather, by)
-  periods <- epw_weather(weather, by)
+  hourly <- read_epw_hourly(weather)
+  days <- weather_days(hourly, by)
+  periods <- summarise_epw(hourly, by, path = weather)
   x <- data.frame(temp = periods$temp, rh = periods$rh, solar = periods$dni)
   fun <- function(params, x) {
     dir <- tempfile("eplus-run-")

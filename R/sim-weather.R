@@ -42,7 +42,12 @@ epw_weather <- function(epw_path, by = c("month", "week", "day"), base_heating =
   by <- match_choice(by)
   check_number(base_heating, "argument")
   check_number(base_cooling, "argument")
-  hourly <- read_epw_hourly(epw_path)
+  summarise_epw(read_epw_hourly(epw_path), by, base_heating, base_cooling, epw_path)
+}
+
+# epw_weather() on records already read (`path` for messages).
+summarise_epw <- function(hourly, by, base_heating = 18.3, base_cooling = 18.3, path,
+                          call = rlang::caller_env()) {
   day <- record_days(hourly)
   period <- record_periods(hourly, day, by)
   daily_temp <- tapply(hourly$temp, day, mean, na.rm = TRUE)
@@ -67,9 +72,9 @@ epw_weather <- function(epw_path, by = c("month", "week", "day"), base_heating =
   empty <- vapply(out[c("temp", "rh", "dni", "dhi", "ghi")], function(v) any(!is.finite(v)),
                   logical(1))
   if (any(empty)) {
-    abort_bayesbem(c("{.file {epw_path}} has a {by} without any valid {.field {names(empty)[empty]}} value.",
+    abort_bayesbem(c("{.file {path}} has a {by} without any valid {.field {names(empty)[empty]}} value.",
                      i = "Fill the missing records (EPW missing codes) before using the file."),
-                   "weather")
+                   "weather", call = call)
   }
   out
 }
@@ -97,8 +102,7 @@ record_periods <- function(hourly, day, by) {
 new_run <- function(v) cumsum(c(TRUE, v[-1] != v[-length(v)]))
 
 # Each day of an EPW file (month, day) with its period, in order.
-weather_days <- function(epw_path, by) {
-  hourly <- read_epw_hourly(epw_path)
+weather_days <- function(hourly, by) {
   day <- record_days(hourly)
   first <- !duplicated(day)
   data.frame(month = hourly$month[first], day = hourly$day[first],

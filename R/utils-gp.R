@@ -59,7 +59,8 @@ gp_geometry <- function(data, x_new = NULL, structure = "dense") {
   g
 }
 
-# Posterior draws of the model's parameters on the Stan scale, one list per draw.
+# Posterior draws of the model's parameters on the Stan scale, one list per draw
+# (evenly spaced ones with `ndraws`; their indices in `attr(, "index")`).
 draw_parameters <- function(fit, ndraws = NULL) {
   sf <- fit$stanfit
   get <- function(par) as.matrix(sf, pars = par)
@@ -71,11 +72,12 @@ draw_parameters <- function(fit, ndraws = NULL) {
   select <- mean_selection(fit$priors, fit$data$p, fit$data$q)
   coef <- if (ncol(select) > 0L) get("b") %*% t(select) else matrix(0, nrow(tf), nrow(select))
   idx <- draw_subset(nrow(tf), ndraws)
-  lapply(idx, function(i) {
+  draws <- lapply(idx, function(i) {
     list(tf = tf[i, ], beta_eta = beta_eta[i, ], beta_delta = beta_delta[i, ],
          lambda_eta = lambda[i, 1], lambda_delta = lambda[i, 2], lambda_e = lambda[i, 3],
          gamma = gamma[i, ], coef = coef[i, ], nugget = fit$priors$nugget)
   })
+  structure(draws, index = idx)
 }
 
 # Evenly spaced draws, so that results do not depend on the random seed.

@@ -3,19 +3,21 @@
 # explain_discrepancy() names. Synthetic problems of the test suite
 # (tests/testthat/helper-synthetic.R: 48 months, equipment power density
 # and infiltration calibrated, 30 runs, 36 months fitted), a hidden effect
-# of each kind (humidity step, occupancy, equipment step) in turn, one noise
-# draw per problem; the named candidate (an input or a covariate) enters as
-# a linear discrepancy term; when nothing is named the fit is kept.
+# of each kind (humidity step, occupancy, equipment step, occupancy only in
+# warm months) in turn, one noise draw per problem; the named candidate (an
+# input, a covariate, or with `regions` a region of them) enters as a
+# linear discrepancy term; when nothing is named the fit is kept.
 # Usage, from the package root with bayesbem installed:
-#   Rscript bench/bench-extension-coverage.R [problems, default 9]
+#   Rscript bench/bench-extension-coverage.R [problems, default 9] [regions: TRUE or FALSE, default FALSE]
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
 problems <- if (length(args) > 0) as.integer(args[1]) else 9L
+regions <- length(args) > 1 && as.logical(args[2])
 for (f in c("helper-weather.R", "helper-synthetic.R")) {
   sys.source(file.path("tests", "testthat", f), envir = globalenv())
 }
-kinds <- c("input", "covariate", "step")
+kinds <- c("input", "covariate", "step", if (regions) "interaction")
 covered <- function(fit) {
   s <- summary(fit)$parameters
   truth <- unlist(synthetic_truth)[rownames(s)]
@@ -24,7 +26,8 @@ covered <- function(fit) {
 rows <- lapply(seq_len(problems), function(i) {
   kind <- kinds[(i - 1) %% length(kinds) + 1]
   case <- make_synthetic_case(kind, noise_seed = 200 + i)
-  ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 1000, seed = i)
+  ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 1000, seed = i,
+                            regions = regions)
   cause <- if (any(ex$explains)) ex$candidate[1] else NA_character_
   before <- covered(case$base)
   after <- if (is.na(cause)) before else {
