@@ -167,8 +167,8 @@ region_cuts <- function(x) {
 # where b > c. NULL when `name` is no such name or names columns `table`
 # lacks.
 region_values <- function(name, table) {
-  parts <- regmatches(region_column_name(name),
-                      regexec("^(?:([^:]+):)?([^<>]+)([<>])(.+)$", region_column_name(name)))[[1]]
+  compact <- region_column_name(name)
+  parts <- regmatches(compact, regexec("^(?:([^:]+):)?([^<>]+)([<>])(.+)$", compact))[[1]]
   cut <- suppressWarnings(as.numeric(parts[5]))
   if (length(parts) == 0L || is.na(cut) || !all(setdiff(parts[2:3], "") %in% names(table))) {
     return(NULL)
