@@ -28,7 +28,7 @@
 #' check_convergence(seb_fit, warn = FALSE)
 check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 0.3,
                               warn = TRUE) {
-  ess_min <- ess_min %||% (100 * fit$settings$chains)
+  ess_min <- ess_min %||% (100 * kept_chains(fit))
   s <- summarise_fit(fit, rhat = posterior::rhat, ess_bulk = posterior::ess_bulk,
                      ess_tail = posterior::ess_tail)
   sampler <- fit_sampler_diagnostics(fit)

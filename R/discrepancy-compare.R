@@ -21,7 +21,7 @@
 loo.koh_fit <- function(x, ndraws = NULL, ...) {
   rlang::check_dots_empty()
   ll <- loo_log_lik(x, ndraws)
-  chains <- x$settings$chains
+  chains <- kept_chains(x)
   r_eff <- if (is.null(ndraws) && nrow(ll) %% chains == 0L) {
     loo::relative_eff(exp(ll), chain_id = rep(seq_len(chains), each = nrow(ll) / chains))
   } else {

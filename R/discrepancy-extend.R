@@ -71,6 +71,7 @@ refit <- function(fit, ...) {
     list(field = fit$data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
          warmup = settings$warmup, seed = settings$seed,
          structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
+         minor_modes = settings$minor_modes %||% "keep",
          covariates = fit$data$covariates),
     list(...)
   )

@@ -11,7 +11,8 @@
 # moves per chain. `args` are further rstan::sampling() arguments. A chain
 # that cannot start calls `on_failure(messages)` with Stan's last lines.
 sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, cores, control,
-                          args, progress, on_failure, call = rlang::caller_env()) {
+                          args, progress, on_failure, minor_modes = "keep",
+                          call = rlang::caller_env()) {
   args$refresh <- args$refresh %||% max(1L, iter %/% 50L)
   run <- function(k, log) {
     # a list of starting values has one element per chain
@@ -38,7 +39,53 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
       result
     })
   if (progress) cli::cli_progress_done(id = bar)
-  collect_chains(results, on_failure, call)
+  fits <- collect_chains(results, on_failure, call)
+  dropped <- if (minor_modes == "drop") minor_mode_chains(chain_draws(fits)) else integer(0)
+  structure(rstan::sflist2stanfit(fits[setdiff(seq_along(fits), dropped)]), dropped = dropped)
+}
+
+# The draws of each chain's stanfit, iterations x chains x variables.
+chain_draws <- function(fits) {
+  draws <- lapply(fits, function(f) as.array(f)[, 1, , drop = TRUE])
+  array(unlist(draws), c(dim(draws[[1]])[1], length(draws), dim(draws[[1]])[2]),
+        dimnames = list(NULL, NULL, colnames(draws[[1]])))
+}
+
+# The chains stuck in a minor mode, by index. Each chain's mode gets a
+# Laplace estimate of its log posterior mass from the chain's draws,
+# log m = mean(lp__) + log det(S) / 2 + (terms common to all chains), S the
+# covariance of the draws on Stan's unconstrained scale (for a Gaussian
+# mode, log m = lp(peak) + d log(2 pi) / 2 + log det(S) / 2 and
+# mean(lp__) = lp(peak) - d / 2). A chain whose mode has less than
+# exp(-gap) of the best chain's mass holds draws the posterior almost never
+# gives; R-hat would only report that the chains disagree. Chains within
+# `gap` of the best are kept even when they disagree: modes of similar mass
+# are the posterior's, and check_convergence() reports them.
+minor_mode_chains <- function(draws, gap = 10) {
+  if (dim(draws)[2] < 2L) {
+    return(integer(0))
+  }
+  log_mass <- vapply(seq_len(dim(draws)[2]), function(k) {
+    u <- unconstrained_draws(draws[, k, , drop = TRUE])
+    u <- u[, apply(u, 2, stats::var) > 0, drop = FALSE]
+    det <- determinant(stats::cov(u), logarithm = TRUE)
+    mean(draws[, k, "lp__"]) + if (det$sign > 0) as.numeric(det$modulus) / 2 else NA
+  }, numeric(1))
+  # too few draws for a covariance: no chain is judged
+  if (anyNA(log_mass) || any(!is.finite(log_mass))) {
+    return(integer(0))
+  }
+  which(log_mass < max(log_mass) - gap)
+}
+
+# A chain's draws of the parameters block on Stan's unconstrained scale
+# (koh_parameters.stan: logit for the (0, 1) parameters, log for the
+# precisions); transformed parameters and generated quantities are left out.
+unconstrained_draws <- function(draws) {
+  base <- sub("\\[.*$", "", colnames(draws))
+  cbind(stats::qlogis(draws[, base %in% c("tf", "rho_eta", "rho_delta"), drop = FALSE]),
+        log(draws[, base %in% c("lambda_eta", "lambda_delta", "lambda_e"), drop = FALSE]),
+        draws[, base %in% c("b", "gamma", "y_pred"), drop = FALSE])
 }
 
 # Runs `run(k, log)` for each chain in forked processes, `cores` at a time,
@@ -118,7 +165,7 @@ chain_progress <- function(logs, iter) {
   }, numeric(1), USE.NAMES = FALSE)
 }
 
-# One stanfit of all chains; a chain whose process failed is an error, one
+# The chains' stanfits; a chain whose process failed is an error, one
 # that could not start (stanfit mode != 0) goes to `on_failure()`. Warnings
 # kept by run_chain() are raised here.
 collect_chains <- function(results, on_failure, call) {
@@ -134,5 +181,5 @@ collect_chains <- function(results, on_failure, call) {
   if (!all(started)) {
     on_failure(results[[which(!started)[1]]]$messages)
   }
-  rstan::sflist2stanfit(fits)
+  fits
 }

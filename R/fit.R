@@ -43,6 +43,15 @@
 #'   explain them, and each stage-2 gradient costs one n x n Cholesky
 #'   factor. Needs a grid design. [check_convergence()] judges the emulator's
 #'   hyperparameters on their stage-1 chains (stored in `fit$emulator`).
+#' @param minor_modes What to do with a chain stuck in a minor mode of the
+#'   posterior: `"drop"` it (with a message) or `"keep"` it. Each chain's
+#'   mode gets a Laplace estimate of its posterior mass from the chain's
+#'   own draws (mean log density plus half the log determinant of their
+#'   covariance on Stan's unconstrained scale); a chain whose mode holds
+#'   less than e^-10 of the best chain's mass is dropped, in each stage of a
+#'   modular fit. Chains in modes of similar mass are always kept, and
+#'   [check_convergence()] reports that they disagree. `fit$settings$dropped`
+#'   lists the dropped chains.
 #' @param progress Show a progress bar over all chains while sampling
 #'   (Stan's own per-chain iteration lines are not printed). The default is
 #'   the option `bayesbem.progress`, `TRUE` unless set.
@@ -65,7 +74,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       cores = getOption("mc.cores", 1L),
                       control = list(adapt_delta = 0.9), predict_at = NULL,
                       structure = c("auto", "grid", "dense"), covariates = NULL,
-                      modular = FALSE, progress = getOption("bayesbem.progress", TRUE), ...) {
+                      modular = FALSE, minor_modes = c("drop", "keep"),
+                      progress = getOption("bayesbem.progress", TRUE), ...) {
   data <- as_koh_data(field, sim)
   data <- add_discrepancy_terms(data, covariates)
   if (!is.null(covariates) && !is.null(predict_at)) {
@@ -87,10 +97,11 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   structure <- choose_structure(data, match_choice(structure), predict_at)
   check_bool(progress)
   check_modular(modular, structure)
+  minor_modes <- match_choice(minor_modes)
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                   cores = min(cores, chains), control = control, args = list(...),
-                  progress = progress, on_failure = function(messages) {
+                  progress = progress, minor_modes = minor_modes, on_failure = function(messages) {
                     abort_sampling_failure(data, priors$nugget, structure, messages, call = fit_env)
                   })
   emulator <- if (modular) fit_emulator(data, priors, sampler)
@@ -104,11 +115,35 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label), sampler))
   fit <- new_koh_fit(stanfit, data = data, priors = priors,
                      settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
-                                     structure = structure, modular = modular),
+                                     structure = structure, modular = modular,
+                                     minor_modes = minor_modes,
+                                     dropped = dropped_chains(stanfit, emulator)),
                      predict_at = if (!is.null(predict_at)) predict_at[data$names$x],
                      emulator = emulator)
+  inform_dropped(fit$settings$dropped)
   check_convergence(fit)
   fit
+}
+
+# The chains sample_chains() dropped as stuck in a minor mode, per stage.
+dropped_chains <- function(stanfit, emulator) {
+  dropped <- list(emulator = attr(emulator$stanfit, "dropped"), fit = attr(stanfit, "dropped"))
+  dropped[lengths(dropped) > 0L]
+}
+
+# The number of chains whose draws a fit holds.
+kept_chains <- function(fit) fit$settings$chains - length(fit$settings$dropped$fit)
+
+inform_dropped <- function(dropped) {
+  for (stage in names(dropped)) {
+    k <- dropped[[stage]]
+    chains <- sprintf("%s%s %s", if (stage == "emulator") "Stage-1 c" else "C",
+                      if (length(k) > 1L) "hains" else "hain", paste(k, collapse = " and "))
+    verb <- if (length(k) > 1L) "were" else "was"
+    cli::cli_inform(c("!" = "{chains} {verb} stuck in a minor mode (under e^-10 of the main mode's posterior mass) and dropped.",
+                      i = "Keep every chain with {.code minor_modes = \"keep\"}."),
+                    class = "bayesbem_message_minor_modes")
+  }
 }
 
 check_modular <- function(modular, structure, call = rlang::caller_env()) {
@@ -315,8 +350,9 @@ print.summary.koh_fit <- function(x, ...) {
   cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters (%s likelihood%s)\n",
               x$data$n, x$data$m, x$data$p, x$data$q, st$structure %||% "dense",
               if (isTRUE(st$modular)) ", modular" else ""))
-  cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions\n\n",
-              st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent))
+  cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions%s\n\n",
+              st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent,
+              dropped_label(st$dropped)))
   cat("Calibration parameters (physical units):\n")
   print_summary_table(x$parameters)
   cat("\nGaussian-process hyperparameters (standardised scale):\n")
@@ -325,6 +361,18 @@ print.summary.koh_fit <- function(x, ...) {
     cat("(emulator rows: stage-1 posterior from the runs alone; fixed at its medians in stage 2)\n")
   }
   invisible(x)
+}
+
+dropped_label <- function(dropped) {
+  if (length(dropped) == 0L) {
+    return("")
+  }
+  stages <- vapply(names(dropped), function(stage) {
+    k <- dropped[[stage]]
+    sprintf("%s%s %s", if (stage == "emulator") "stage-1 " else "",
+            if (length(k) > 1L) "chains" else "chain", paste(k, collapse = ", "))
+  }, character(1))
+  sprintf("; dropped (minor mode): %s", paste(stages, collapse = "; "))
 }
 
 # Prints a summary table with one row per variable (the row names). Each

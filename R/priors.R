@@ -16,6 +16,13 @@
 #' @param tf A named list of priors for the calibration parameters, each made
 #'   by [prior_normal()] or [prior_uniform()], e.g. from [prior_level()].
 #'   Parameters left out get the flat prior `U(0, 1)` on their scaled range.
+#' @param set The named prior set the Gamma priors are read in. `"paper"`:
+#'   as given, on the standardised output scale (the paper's). `"scaled"`:
+#'   the emulator precision's rate is multiplied by `v`, the runs' variance
+#'   about the least-squares fit of the emulator mean, so that the
+#'   emulator's prior variance is that of what the mean leaves to the
+#'   Gaussian process rather than that of the runs (`v` = 1, and the sets
+#'   agree, for a zero or constant mean). See Details for when to use which.
 #' @param rho_eta,rho_delta Shape parameters `c(a, b)` of the Beta priors on
 #'   the emulator's and the discrepancy's correlation parameters.
 #' @param lambda_eta,lambda_delta,lambda_e Shape and rate `c(shape, rate)` of
@@ -47,7 +54,7 @@
 #' @examples
 #' koh_priors()
 #' koh_priors(tf = list(equipment_power_density = prior_normal(21.9, 0.2)))
-koh_priors <- function(tf = list(), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
+koh_priors <- function(tf = list(), set = c("paper", "scaled"), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
                        lambda_eta = c(10, 10), lambda_delta = c(10, 0.3),
                        lambda_e = c(10, 0.03), gamma_sd = 1,
                        emulator_mean = c("linear", "constant", "zero"), mean_sd = 3,
@@ -68,11 +75,12 @@ koh_priors <- function(tf = list(), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
                      "prior")
     }
   }
+  set <- match_choice(set)
   check_number(nugget, "prior")
   check_number(gamma_sd, "prior", positive = TRUE)
   emulator_mean <- match_choice(emulator_mean)
   check_number(mean_sd, "prior", positive = TRUE)
-  structure(c(list(tf = tf), hyper,
+  structure(c(list(tf = tf, set = set), hyper,
               list(gamma_sd = gamma_sd, emulator_mean = emulator_mean, mean_sd = mean_sd,
                    nugget = nugget)),
             class = "koh_priors")
@@ -166,8 +174,9 @@ print.koh_priors <- function(x, ...) {
   cat_lines("{.cls koh_priors}",
             "* tf: {tf}",
             "* rho_eta ~ Beta({x$rho_eta[1]}, {x$rho_eta[2]}), rho_delta ~ Beta({x$rho_delta[1]}, {x$rho_delta[2]})",
-            "* lambda_eta ~ Gamma({x$lambda_eta[1]}, {x$lambda_eta[2]}), lambda_delta ~ Gamma({x$lambda_delta[1]}, {x$lambda_delta[2]}), lambda_e ~ Gamma({x$lambda_e[1]}, {x$lambda_e[2]})",
-            "* emulator mean: {emulator_mean_label(x)}")
+            "* lambda_eta ~ Gamma({x$lambda_eta[1]}, {x$lambda_eta[2]}{if (prior_set_of(x) == \"scaled\") \" v\" else \"\"}), lambda_delta ~ Gamma({x$lambda_delta[1]}, {x$lambda_delta[2]}), lambda_e ~ Gamma({x$lambda_e[1]}, {x$lambda_e[2]})",
+            "* emulator mean: {emulator_mean_label(x)}",
+            if (prior_set_of(x) == "scaled") "* v: the runs' variance about the least-squares emulator mean")
   invisible(x)
 }
 
@@ -181,6 +190,25 @@ emulator_mean_label <- function(priors) {
 }
 
 emulator_mean_of <- function(priors) priors$emulator_mean %||% "zero"
+
+prior_set_of <- function(priors) priors$set %||% "paper"
+
+# The rate of the emulator precision's Gamma prior. The paper's Gamma(10,
+# 10) centres the emulator's variance on that of the standardised runs,
+# which a zero-mean emulator must carry; the "scaled" set centres it on
+# what the emulator mean leaves (equation: rate x v, v = residual sum of
+# squares of the least-squares fit of the runs on the mean's columns of
+# [1, x, t], over m - 1), so that v = 1 and the sets agree for a zero or
+# constant mean.
+lambda_eta_rate <- function(data, priors, b_select) {
+  rate <- priors$lambda_eta[2]
+  if (prior_set_of(priors) == "paper") {
+    return(rate)
+  }
+  h <- cbind(1, data$xc, data$tc) %*% b_select
+  resid <- if (ncol(h) == 0L) data$eta else stats::lm.fit(h, data$eta)$residuals
+  rate * sum(resid^2) / (length(data$eta) - 1)
+}
 
 # Which columns of [1, x, t] the emulator mean uses: a (1 + p + q) x n_b
 # selection matrix (koh_prior_data.stan's b_select).
@@ -245,7 +273,8 @@ koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
     tf_is_normal = as.array(is_normal), tf_mu = as.array(mu), tf_sd = as.array(sd),
     rho_eta_a = priors$rho_eta[1], rho_eta_b = priors$rho_eta[2],
     rho_delta_a = priors$rho_delta[1], rho_delta_b = priors$rho_delta[2],
-    lambda_eta_shape = priors$lambda_eta[1], lambda_eta_rate = priors$lambda_eta[2],
+    lambda_eta_shape = priors$lambda_eta[1],
+    lambda_eta_rate = lambda_eta_rate(data, priors, b_select),
     lambda_delta_shape = priors$lambda_delta[1], lambda_delta_rate = priors$lambda_delta[2],
     lambda_e_shape = priors$lambda_e[1], lambda_e_rate = priors$lambda_e[2],
     nugget = priors$nugget,

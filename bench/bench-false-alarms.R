@@ -39,10 +39,17 @@ for (kind in names(causes)) {
       ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 1000, seed = i,
                                 regions = regions)
       named <- ex$candidate[ex$explains]
-      cat(sprintf("%s, noise seed %d, regions %s: named %s (top: %s, share %.2f, p %.3f)\n",
+      region <- grepl(", where | [<>] ", ex$candidate)
+      best_region <- if (any(region)) {
+        sprintf("; best region: %s, p %.3f", ex$candidate[region][which.min(ex$p_value[region])],
+                min(ex$p_value[region]))
+      } else {
+        ""
+      }
+      cat(sprintf("%s, noise seed %d, regions %s: named %s (top: %s, share %.2f, p %.3f%s)\n",
                   kind, 100 + i, regions,
                   if (length(named) > 0) paste(utils::head(named, 4), collapse = ", ") else "nothing",
-                  ex$candidate[1], ex$share[1], ex$p_value[1]))
+                  ex$candidate[1], ex$share[1], ex$p_value[1], best_region))
       c(named = length(named) > 0,
         found = !is.na(causes[[kind]]) && grepl(causes[[kind]], ex$candidate[1]) &&
           ex$explains[1])
@@ -55,7 +62,7 @@ for (kind in names(causes)) {
                              cause_named_regions = mean(outcome[3, ]),
                              true_cause_found_regions = if (is.na(causes[[kind]])) NA else mean(outcome[4, ]))
 }
-cat("\nShare of noise draws (alpha = 0.05, max-statistic adjustment over the 7 candidates, or with regions over all terms; 1000 simulated null residuals):\n")
+cat("\nShare of noise draws (alpha = 0.05, max-statistic adjustment over the 7 candidates, or with regions within candidates and regions, alpha shared 0.8/0.2; 1000 simulated null residuals):\n")
 print(do.call(rbind, rows), row.names = FALSE)
 cat(sprintf("machine: %s, %d cores; R %s; rstan %s; %s\n", Sys.info()[["nodename"]],
             parallel::detectCores(), getRversion(), packageVersion("rstan"), Sys.Date()))

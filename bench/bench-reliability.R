@@ -46,7 +46,9 @@ one_problem <- function(n, mt, k) {
                min(conv$ess_bulk, conv$ess_tail) >= 400,
              max_rhat = max(conv$rhat), worst = conv$variable[worst],
              min_ess = min(conv$ess_bulk, conv$ess_tail), divergent = sampler$divergent,
-             treedepth_hits = sampler$treedepth_hits, covered = sum(covered),
+             treedepth_hits = sampler$treedepth_hits,
+             dropped = paste(unlist(fit$settings$dropped), collapse = " "),
+             covered = sum(covered),
              parameters = length(covered), wall_s = wall)
 }
 

@@ -127,6 +127,21 @@ test_that("regions name an effect that acts in part of another input's range", {
   expect_lt(sum(ex$explains), nrow(ex))
 })
 
+test_that("p-values are adjusted within each family and share alpha across families", {
+  # two main terms and one region, five null residuals each
+  score <- function(z, null_z) list(summary = data.frame(z = z), null_z = null_z)
+  scores <- list(score(3, c(0, 1, 2, 4, -1)), score(1, c(1, 0, 0, 0, 5)),
+                 score(3.5, c(0, 3, 0, 0, 0)))
+  p <- bayesbem:::adjusted_p_values(scores, c("main", "main", "region"),
+                                    c(main = 0.8, region = 0.2))
+  # main family maxima 1, 1, 2, 4, 5: z = 3 is reached by two, z = 1 by all
+  # five; the region's own null never reaches 3.5
+  expect_equal(p, c((1 + 2) / 6 / 0.8, 1, (1 + 0) / 6 / 0.2))
+  # one family: the plain Westfall-Young adjustment
+  expect_equal(bayesbem:::adjusted_p_values(scores[1:2], c("main", "main"), c(main = 1)),
+               c(3 / 6, 1))
+})
+
 test_that("bad candidates get classed errors", {
   expect_error(explain_discrepancy(seb_fit, data.frame(k = 1:5)),
                class = "bayesbem_error_covariates")

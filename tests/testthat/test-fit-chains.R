@@ -6,9 +6,55 @@ test_that("chains run one per process give rstan's own multi-chain draws", {
     rstan::sampling(bayesbem:::stanmodels$koh_grid, data = stan_data, chains = 2, iter = 150,
                     seed = 5, refresh = 0, control = list(adapt_delta = 0.9), cores = 1)
   )
-  fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = 5, cores = 2),
+  fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = 5, cores = 2,
+                                    minor_modes = "keep"),
                           classes = "bayesbem_warning_convergence")
   expect_equal(as.array(fit$stanfit), as.array(reference))
+})
+
+# Draws of four chains (iterations x chains x variables) from Gaussian
+# modes: unconstrained b[1..6] with sd `spread`, lp__ around `height`.
+mode_draws <- function(height, spread) {
+  draws <- array(0, c(400, 4, 8), list(NULL, NULL, c(sprintf("b[%d]", 1:6), "beta_eta[1]", "lp__")))
+  for (k in 1:4) {
+    z <- withr::with_seed(k, matrix(stats::rnorm(400 * 6), 400))
+    draws[, k, 1:6] <- z * spread[k]
+    # the Gaussian log density up to its constant: height at the peak
+    draws[, k, "lp__"] <- height[k] - rowSums(z^2) / 2
+    draws[, k, "beta_eta[1]"] <- 3
+  }
+  draws
+}
+
+test_that("a chain stuck in a mode of far lower posterior mass is found", {
+  # log mass = height + 6 log(spread): chain 3's mode has e^-30 of the
+  # first chains' mass; chain 4's peak is 12 lower but 10 times wider in 6
+  # directions (log mass -12 + 13.8 = 1.8 against the first chains')
+  draws <- mode_draws(height = c(0, 0.5, -30, -12), spread = c(1, 1, 1, 10))
+  expect_equal(bayesbem:::minor_mode_chains(draws), 3L)
+  # modes of similar mass are kept: the chains disagree, and R-hat says so
+  expect_equal(bayesbem:::minor_mode_chains(mode_draws(c(0, 0, -5, 0), rep(1, 4))), integer(0))
+  # one chain, or too few draws for a covariance: nothing is judged
+  expect_equal(bayesbem:::minor_mode_chains(draws[, 1, , drop = FALSE]), integer(0))
+  expect_equal(bayesbem:::minor_mode_chains(draws[1:4, , ]), integer(0))
+})
+
+test_that("draws go to Stan's unconstrained scale, parameters block only", {
+  draws <- cbind(`tf[1]` = c(0.2, 0.7), `rho_eta[2]` = c(0.5, 0.9), lambda_e = c(10, 400),
+                 `b[1]` = c(-1, 2), `beta_eta[1]` = c(1, 2), lp__ = c(-3, -4))
+  u <- bayesbem:::unconstrained_draws(draws)
+  expect_equal(colnames(u), c("tf[1]", "rho_eta[2]", "lambda_e", "b[1]"))
+  expect_equal(unname(u[, 1]), log(c(0.2, 0.7) / c(0.8, 0.3)))
+  expect_equal(unname(u[, 3]), log(c(10, 400)))
+})
+
+test_that("dropped chains are named in the message and the summary", {
+  expect_message(bayesbem:::inform_dropped(list(emulator = 2L, fit = c(1L, 4L))),
+                 class = "bayesbem_message_minor_modes")
+  expect_snapshot(bayesbem:::inform_dropped(list(emulator = 2L, fit = c(1L, 4L))))
+  expect_equal(bayesbem:::dropped_label(list(emulator = 2L, fit = 3L)),
+               "; dropped (minor mode): stage-1 chain 2; chain 3")
+  expect_equal(bayesbem:::dropped_label(list()), "")
 })
 
 test_that("rstan's diagnostic warnings are told by the function that raised them", {

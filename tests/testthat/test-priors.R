@@ -21,6 +21,30 @@ test_that("prior means in physical units map to the [0, 1] scale", {
   expect_equal(as.vector(sd$tf_sd[1:2]), c(0.2, 0.2))
 })
 
+test_that("the scaled set centres the emulator's variance on what its mean leaves", {
+  d <- koh_data(seb_field, seb_sim)
+  rate <- function(...) bayesbem:::koh_stan_data(d, koh_priors(...))$lambda_eta_rate
+  # independently: the runs (standardised by their own mean and sd) less
+  # their least-squares plane in the scaled inputs and parameters
+  runs <- seb_sim
+  eta <- (runs$eta - mean(runs$eta)) / stats::sd(runs$eta)
+  inputs <- c("temp", "rh", "solar", "equipment_power_density", "fan_total_efficiency",
+              "infiltration_per_exterior_area")
+  scaled <- lapply(inputs, function(v) {
+    all <- c(runs[[v]], if (v %in% names(seb_field)) seb_field[[v]])
+    (runs[[v]] - min(all)) / diff(range(all))
+  })
+  plane <- stats::lm(eta ~ ., data = stats::setNames(as.data.frame(scaled), inputs))
+  v <- sum(stats::residuals(plane)^2) / (nrow(runs) - 1)
+  expect_equal(rate(set = "scaled"), 10 * v, tolerance = 1e-10)
+  expect_lt(v, 0.5)
+  # the paper's set, and any mean that leaves the runs' whole variance
+  expect_equal(rate(), 10)
+  expect_equal(rate(set = "scaled", emulator_mean = "zero"), 10)
+  expect_equal(rate(set = "scaled", emulator_mean = "constant", lambda_eta = c(10, 4)), 4)
+  expect_error(koh_priors(set = "wide"), class = "bayesbem_error_argument")
+})
+
 test_that("prior_level() gives the paper's three levels", {
   mu <- c(equipment_power_density = 21.9)
   expect_equal(prior_level("flat", mu)$equipment_power_density$family, "uniform")
