@@ -46,9 +46,10 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
 
 # The draws of each chain's stanfit, iterations x chains x variables.
 chain_draws <- function(fits) {
-  draws <- lapply(fits, function(f) as.array(f)[, 1, , drop = TRUE])
-  array(unlist(draws), c(dim(draws[[1]])[1], length(draws), dim(draws[[1]])[2]),
-        dimnames = list(NULL, NULL, colnames(draws[[1]])))
+  first <- as.array(fits[[1]])
+  draws <- array(0, replace(dim(first), 2L, length(fits)), list(NULL, NULL, dimnames(first)[[3]]))
+  for (k in seq_along(fits)) draws[, k, ] <- as.array(fits[[k]])[, 1, ]
+  draws
 }
 
 # The chains stuck in a minor mode, by index. Each chain's mode gets a

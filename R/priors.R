@@ -13,6 +13,19 @@
 #' `bench/bench-reliability.R`; `emulator_mean = "zero"` gives the paper's
 #' model exactly.
 #'
+#' Two named sets read the Gamma priors. `set = "paper"` (the default) takes
+#' them on the standardised output scale, as the paper does: the emulator's
+#' prior variance is about that of the runs, which a zero-mean emulator has
+#' to carry. `set = "scaled"` divides that variance by what the emulator
+#' mean leaves (`v`, the runs' variance about their least-squares fit on
+#' the mean's columns; 0.2-0.25 on the benchmark problems with the linear
+#' mean), so the Gaussian process is not asked for variance the mean has
+#' already explained. Use "scaled" when a linear mean explains nearly all
+#' of the runs (a small `v`) and the fit's
+#' `lambda_eta` sits far above its prior; measured on the benchmark
+#' (`bench/RESULTS.md`), it did not make more fits converge at `v` near
+#' 0.2, so it is not the default.
+#'
 #' @param tf A named list of priors for the calibration parameters, each made
 #'   by [prior_normal()] or [prior_uniform()], e.g. from [prior_level()].
 #'   Parameters left out get the flat prior `U(0, 1)` on their scaled range.

@@ -10,6 +10,13 @@ test_that("chains run one per process give rstan's own multi-chain draws", {
                                     minor_modes = "keep"),
                           classes = "bayesbem_warning_convergence")
   expect_equal(as.array(fit$stanfit), as.array(reference))
+  # the chains' draws as minor_mode_chains() reads them
+  single <- lapply(1:2, function(k) {
+    suppressWarnings(rstan::sampling(bayesbem:::stanmodels$koh_grid, data = stan_data, chains = 1,
+                                     chain_id = k, iter = 150, seed = 5, refresh = 0,
+                                     control = list(adapt_delta = 0.9)))
+  })
+  expect_equal(unname(bayesbem:::chain_draws(single)), unname(as.array(reference)))
 })
 
 # Draws of four chains (iterations x chains x variables) from Gaussian
