@@ -25,7 +25,7 @@
 #' @param fit A `koh_fit`.
 #' @param with Names of the covariates to add as discrepancy terms: columns
 #'   of `covariates`, observable inputs of the fit, or regions of them as
-#'   [explain_discrepancy()] names them with `regions = TRUE` ("temp > 11.8",
+#'   [explain_discrepancy()] names them ("temp > 11.8",
 #'   a step: 1 above, 0 below; "occupancy, where temp > 14.9", occupancy
 #'   there and 0 elsewhere; any threshold can be given), added as columns
 #'   `temp>11.8` and `occupancy:temp>14.9`. [predict()] computes these

@@ -49,7 +49,8 @@
 #'   own draws (mean log density plus half the log determinant of their
 #'   covariance on Stan's unconstrained scale); a chain whose mode holds
 #'   less than e^-10 of the best chain's mass is dropped, in each stage of a
-#'   modular fit. Chains in modes of similar mass are always kept, and
+#'   modular fit, provided two chains remain. Chains in modes of similar
+#'   mass are always kept, and
 #'   [check_convergence()] reports that they disagree. `fit$settings$dropped`
 #'   lists the dropped chains.
 #' @param progress Show a progress bar over all chains while sampling

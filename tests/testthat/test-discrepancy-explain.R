@@ -7,7 +7,8 @@ test_that("each hidden effect is flagged and its cause ranks first", {
   for (kind in names(synthetic_causes)) {
     case <- synthetic_case(kind)
     expect_true(any(discrepancy(case$base)$flag), label = kind)
-    ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, seed = 1)
+    ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, regions = FALSE,
+                              seed = 1)
     expect_s3_class(ex, "koh_explanation")
     expect_gte(nrow(ex), 4)
     expect_equal(ex$candidate[1], synthetic_causes[[kind]], label = kind)
@@ -21,8 +22,7 @@ test_that("an effect in part of another input's range is named with both inputs"
   # occupancy costs energy only where temp > 15: the region term at the
   # nearest quantile (14) explains nearly all of the residual
   case <- synthetic_case("interaction")
-  ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, regions = TRUE,
-                            seed = 1)
+  ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, seed = 1)
   expect_match(ex$candidate[1], "^occupancy, where temp > 14")
   expect_true(ex$explains[1])
   expect_gt(ex$share[1], 0.7)
@@ -31,8 +31,9 @@ test_that("an effect in part of another input's range is named with both inputs"
 
 test_that("a correct simulator gets no cause in the large majority of data draws", {
   skip_on_cran()
-  # four noise draws of data without a hidden effect; with alpha = 0.05
-  # family-wise, two or more alarms in four draws has probability ~1.4 %
+  # four noise draws of data without a hidden effect, regions included;
+  # with alpha = 0.05 family-wise, two or more alarms in four draws has
+  # probability ~1.4 %
   explanations <- lapply(5:8, function(noise_seed) {
     case <- if (noise_seed == 5) synthetic_case("none") else
       make_synthetic_case("none", noise_seed = noise_seed)
@@ -119,7 +120,7 @@ test_that("the emulator's inflation is the same on the grid and on the dense alg
 })
 
 test_that("regions name an effect that acts in part of another input's range", {
-  ex <- explain_discrepancy(seb_fit, ndraws = 50, n_null = 200, regions = TRUE, seed = 1)
+  ex <- explain_discrepancy(seb_fit, ndraws = 50, n_null = 200, seed = 1)
   expect_true(any(grepl("^solar, where temp < ", ex$candidate)))
   expect_true(any(grepl("^temp > ", ex$candidate)))
   # every observable input is a candidate, with and without regions

@@ -41,6 +41,9 @@ test_that("a chain stuck in a mode of far lower posterior mass is found", {
   expect_equal(bayesbem:::minor_mode_chains(draws), 3L)
   # modes of similar mass are kept: the chains disagree, and R-hat says so
   expect_equal(bayesbem:::minor_mode_chains(mode_draws(c(0, 0, -5, 0), rep(1, 4))), integer(0))
+  # a single chain left to stand alone: nothing is dropped
+  expect_equal(bayesbem:::minor_mode_chains(mode_draws(c(0, -30, -30, -30), rep(1, 4))),
+               integer(0))
   # one chain, or too few draws for a covariance: nothing is judged
   expect_equal(bayesbem:::minor_mode_chains(draws[, 1, , drop = FALSE]), integer(0))
   expect_equal(bayesbem:::minor_mode_chains(draws[1:4, , ]), integer(0))
