@@ -62,7 +62,10 @@
 #'   field data's order) of further candidates.
 #' @param level Probability of the central interval of each share.
 #' @param alpha Family-wise error rate of the "explains" decisions.
-#' @param n_null Number of simulated null residuals.
+#' @param n_null Number of simulated null residuals: at least 100 with
+#'   regions, 20 without, at `alpha = 0.05` (an error says so), since no
+#'   adjusted p-value can be smaller than `1 / (n_null + 1)` divided by the
+#'   family's share of `alpha`.
 #' @param ndraws Number of posterior draws (evenly spaced); all by default.
 #' @param regions Also try steps in each input and each candidate's effect
 #'   in part of another input's range (see Details); [extend()] takes the
@@ -90,6 +93,8 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   check_probability(level)
   check_probability(alpha)
   check_bool(regions)
+  weights <- if (regions) region_weights else c(main = 1)
+  check_null_size(n_null, alpha, weights)
   data <- fit$data
   candidates <- explanation_candidates(data, covariates)
   main <- main_terms(candidates)
@@ -109,7 +114,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   scores <- lapply(terms, function(b) term_scores(b, residual, nuisance, null, level))
   out <- data.frame(candidate = names(terms),
                     do.call(rbind, lapply(scores, `[[`, "summary")), row.names = NULL)
-  out$p_value <- adjusted_p_values(scores, family, if (regions) region_weights else c(main = 1))
+  out$p_value <- adjusted_p_values(scores, family, weights)
   out$explains <- out$p_value < alpha
   out <- out[order(!out$explains, -out$share), ]
   rownames(out) <- NULL
@@ -139,6 +144,25 @@ adjusted_p_values <- function(scores, family, weights) {
     p[in_f] <- pmin(1, (1 + exceed) / (length(null_max) + 1) / weights[[f]])
   }
   p
+}
+
+# The smallest adjusted p-value of a family is 1 / (n_null + 1) / weight
+# (adjusted_p_values()); with fewer null residuals than make it fall below
+# alpha, no term of that family could ever be named.
+check_null_size <- function(n_null, alpha, weights, call = rlang::caller_env()) {
+  share <- min(weights)
+  needed <- floor(1 / (alpha * share) - 1 + 1e-8) + 1
+  if (n_null >= needed) {
+    return(invisible(n_null))
+  }
+  hint <- if (length(weights) > 1) {
+    c(i = "Regions get {share} of {.arg alpha}: an adjusted p-value is at least 1 / ({.arg n_null} + 1) / {share}.",
+      i = "Increase {.arg n_null}, or set {.code regions = FALSE}.")
+  } else {
+    c(i = "An adjusted p-value is at least 1 / ({.arg n_null} + 1).", i = "Increase {.arg n_null}.")
+  }
+  abort_bayesbem(c("{.arg n_null} must be at least {needed} for a term to pass {.arg alpha} = {alpha}, not {n_null}.",
+                   hint), "argument", call = call)
 }
 
 # One basis per candidate: linear and quadratic terms (standardised), or a

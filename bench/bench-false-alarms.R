@@ -13,6 +13,7 @@
 #   Rscript bench/bench-false-alarms.R [noise draws per kind, default 10] [kinds, comma-separated]
 # With BENCH_FITS=<folder>, each fit is saved there and reused by later runs.
 suppressPackageStartupMessages(library(bayesbem))
+options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
 draws <- if (length(args) > 0) as.integer(args[1]) else 10L
 for (f in c("helper-weather.R", "helper-synthetic.R")) {

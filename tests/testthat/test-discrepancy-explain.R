@@ -64,13 +64,13 @@ test_that("a candidate that only mimics a parameter's effect is not credited", {
 
 test_that("shares are fractions with intervals, p-values adjusted", {
   skip_on_cran()
-  ex <- explain_discrepancy(shared_fit(), data.frame(k = seq_len(12)), n_null = 99,
+  ex <- explain_discrepancy(shared_fit(), data.frame(k = seq_len(12)), n_null = 100,
                             ndraws = 50, seed = 2)
   expect_named(ex, c("candidate", "share", "lower", "upper", "z", "p_value", "explains"))
   expect_true(all(ex$lower <= ex$share & ex$share <= ex$upper))
   expect_true(all(ex$share >= 0 & ex$share <= 1))
   expect_true(all(ex$p_value > 0 & ex$p_value <= 1))
-  expect_equal(explain_discrepancy(shared_fit(), data.frame(k = seq_len(12)), n_null = 99,
+  expect_equal(explain_discrepancy(shared_fit(), data.frame(k = seq_len(12)), n_null = 100,
                                    ndraws = 50, seed = 2), ex)
 })
 
@@ -150,4 +150,9 @@ test_that("bad candidates get classed errors", {
   expect_snapshot(explain_discrepancy(seb_fit, data.frame(temp = 1:12)), error = TRUE)
   expect_snapshot(explain_discrepancy(seb_fit, data.frame(flat = rep(1, 12))), error = TRUE)
   expect_error(explain_discrepancy(seb_fit, alpha = 2), class = "bayesbem_error_argument")
+  # Too few null residuals for any region (p >= 1 / 100 / 0.2) or any term to pass alpha.
+  expect_snapshot(explain_discrepancy(seb_fit, n_null = 99), error = TRUE)
+  expect_snapshot(explain_discrepancy(seb_fit, n_null = 18, regions = FALSE), error = TRUE)
+  expect_s3_class(explain_discrepancy(seb_fit, n_null = 20, regions = FALSE, ndraws = 20, seed = 1),
+                  "koh_explanation")
 })
