@@ -23,8 +23,24 @@
 #'   `eta`;
 #' * each `x` column is mapped to \[0, 1\] with its minimum and maximum over
 #'   field and simulation rows together;
-#' * each `t` column is mapped to \[0, 1\] with its minimum and maximum over
-#'   the simulation design.
+#' * each `t` column is put on its scale (`scales`) and then mapped to
+#'   \[0, 1\] with its minimum and maximum over the simulation design.
+#'
+#' A parameter's scale is where the emulator works with it; its prior stays
+#' in physical units (a flat prior is flat in the parameter itself, as in
+#' the paper), by a change of variables in the Stan program. The emulator's
+#' mean is linear in the parameters, and an output proportional to `1 / t`
+#' (fan power against fan efficiency) is far from linear in `t`: the
+#' emulator's error along that curve then leaves the posterior with several
+#' modes. `scales = "auto"` (the default) puts a positive parameter on the
+#' log or reciprocal scale when that removes at least a fifth of the
+#' residual variance of the least-squares fit of the runs' output on the
+#' inputs and parameters (the emulator's mean), and keeps the others as
+#' they are. On the shipped case study and the synthetic problems of the
+#' package's benchmarks it puts fan efficiency, and only it, on the
+#' reciprocal scale (residual variance 0.33-0.60 of the identity's; 0.94 or
+#' more for the others); see `bench/RESULTS.md` for what that does to
+#' convergence. `scales = "identity"` is the paper's model.
 #'
 #' @param field A data frame (or numeric matrix) of field data.
 #' @param sim A data frame (or numeric matrix) of simulation runs.
@@ -43,6 +59,11 @@
 #'   shipped ones by about 1e-8), `print()` reports the largest difference,
 #'   and [calibrate()] can use the fast grid likelihood. Use `0` to require
 #'   identical values.
+#' @param scales `"auto"` (see Details), `"identity"` (every parameter as
+#'   it is, as in the paper), or a named character vector giving some
+#'   parameters `"identity"`, `"log"` or `"reciprocal"` (the others keep
+#'   the identity), e.g. `c(fan_total_efficiency = "reciprocal")`. Reports
+#'   and draws are always in physical units.
 #' @return An object of class `koh_data`: the scaled matrices `y`, `eta`,
 #'   `xf`, `xc`, `tc`, the column names, the sizes `n`, `m`, `p`, `q`, the
 #'   `scaling` constants, and `grid`: the layout of the runs when every run
@@ -59,7 +80,7 @@
 #'          t = c("fan_total_efficiency", "equipment_power_density",
 #'                "infiltration_per_exterior_area"))
 koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, period = NULL,
-                     grid_tol = 1e-6) {
+                     grid_tol = 1e-6, scales = "auto") {
   field <- as_numeric_table(field)
   sim <- as_numeric_table(sim)
   period <- period_column(field, period)
@@ -89,14 +110,17 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, perio
     y_center = mean(eta_raw),
     y_scale = stats::sd(eta_raw),
     x_min = apply(rbind(xf_raw, xc_raw), 2, min),
-    x_max = apply(rbind(xf_raw, xc_raw), 2, max),
-    t_min = apply(tc_raw, 2, min),
-    t_max = apply(tc_raw, 2, max)
+    x_max = apply(rbind(xf_raw, xc_raw), 2, max)
   )
   check_varies(scaling$y_scale, cols$eta, "sim")
   check_varies(scaling$x_max - scaling$x_min, cols$x, "field and sim together")
-  check_varies(scaling$t_max - scaling$t_min, cols$t, "sim")
+  check_varies(apply(tc_raw, 2, max) - apply(tc_raw, 2, min), cols$t, "sim")
   check_distinct_runs(cbind(xc_raw, tc_raw))
+  scaling$t_scale <- parameter_scales(scales, tc_raw, xc_raw, eta_raw)
+  on_scale <- tc_raw
+  for (k in cols$t) on_scale[, k] <- scale_functions[[scaling$t_scale[[k]]]]$to(tc_raw[, k])
+  scaling$t_min <- apply(on_scale, 2, min)
+  scaling$t_max <- apply(on_scale, 2, max)
   xf <- scale_x(xf_raw, scaling)
   xc <- scale_x(xc_raw, scaling)
   tc <- scale_t(tc_raw, scaling)
@@ -136,6 +160,7 @@ print.koh_data <- function(x, ...) {
             "* output: {.field {x$names$y}} (field), {.field {x$names$eta}} (simulation)",
             "* {x$p} observable input{?s} x: {.field {x$names$x}}",
             "* {x$q} calibration parameter{?s} t: {.field {x$names$t}}",
+            scale_lines(t_scales(x$scaling)),
             if (!is.null(x$names$period)) {
               "* rows dated by {.field {x$names$period}}: {period_labels(x)[1]} to {period_labels(x)[x$n]}"
             },
@@ -143,6 +168,14 @@ print.koh_data <- function(x, ...) {
               "* grid design: {x$grid$mt} runs at {x$grid$n_x} inputs, the {x$n} field inputs among them (matched within {signif(x$grid$max_diff, 2)} of their range)"
             })
   invisible(x)
+}
+
+# One line per scale other than the identity, e.g. "fitted on the
+# reciprocal scale: fan_total_efficiency".
+scale_lines <- function(scales) {
+  vapply(setdiff(unique(scales), "identity"), function(scale) {
+    paste0("* fitted on the ", scale, " scale: ", paste(names(scales)[scales == scale], collapse = ", "))
+  }, character(1), USE.NAMES = FALSE)
 }
 
 # Accepts data frames and numeric matrices; everything else is an error.

@@ -23,6 +23,50 @@ scale_x <- function(x, scaling) scale_columns(x, scaling$x_min, scaling$x_max)
 
 unscale_x <- function(u, scaling) unscale_columns(u, scaling$x_min, scaling$x_max)
 
-scale_t <- function(t, scaling) scale_columns(t, scaling$t_min, scaling$t_max)
+# Calibration parameters are first put on their scale (parameter_scales():
+# identity, log or reciprocal; each increasing), then mapped to [0, 1] by
+# the design's range on that scale (`t_min`, `t_max`); the emulator works
+# there. Priors stay in physical units (tf_prior_lpdf() in
+# koh_functions.stan). One parameter `k` at a time:
+scale_t1 <- function(v, scaling, k) {
+  (scale_functions[[t_scales(scaling)[[k]]]]$to(v) - scaling$t_min[[k]]) /
+    (scaling$t_max[[k]] - scaling$t_min[[k]])
+}
 
-unscale_t <- function(u, scaling) unscale_columns(u, scaling$t_min, scaling$t_max)
+unscale_t1 <- function(u, scaling, k) {
+  scale_functions[[t_scales(scaling)[[k]]]]$from(
+    u * (scaling$t_max[[k]] - scaling$t_min[[k]]) + scaling$t_min[[k]])
+}
+
+scale_t <- function(t, scaling) {
+  t <- as.matrix(t)
+  for (k in seq_len(ncol(t))) t[, k] <- scale_t1(t[, k], scaling, k)
+  t
+}
+
+unscale_t <- function(u, scaling) {
+  u <- as.matrix(u)
+  for (k in seq_len(ncol(u))) u[, k] <- unscale_t1(u[, k], scaling, k)
+  u
+}
+
+# The design's range of each parameter in physical units (every scale is
+# increasing, so 0 and 1 map to the ends).
+t_bounds <- function(scaling) {
+  ends <- unscale_t(matrix(c(0, 1), 2, length(scaling$t_min)), scaling)
+  list(lower = stats::setNames(ends[1, ], names(scaling$t_min)),
+       upper = stats::setNames(ends[2, ], names(scaling$t_min)))
+}
+
+# Fits saved before parameter scales existed (scaling without `t_scale`)
+# used the identity.
+t_scales <- function(scaling) {
+  scaling$t_scale %||% stats::setNames(rep("identity", length(scaling$t_min)), names(scaling$t_min))
+}
+
+scale_functions <- list(
+  identity = list(to = function(v) v, from = function(s) s),
+  log = list(to = log, from = exp),
+  # -1 / v rather than 1 / v keeps the parameter's order on [0, 1]
+  reciprocal = list(to = function(v) -1 / v, from = function(s) -1 / s)
+)

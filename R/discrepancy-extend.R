@@ -56,7 +56,9 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
   data <- fit$data
   terms <- data$covariates
   if (!is.null(sim)) {
-    data <- koh_data(field_table(data), sim)
+    # the parameters it shares with the fit keep their scales
+    scales <- t_scales(data$scaling)
+    data <- koh_data(field_table(data), sim, scales = scales[intersect(names(scales), names(sim))])
   } else {
     terms <- extension_covariates(data, with, covariates)
   }

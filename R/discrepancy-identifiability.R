@@ -61,17 +61,20 @@ identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
   per_draw <- lapply(draws, function(par) discrepancy_projection(g, par, data))
   shift <- do.call(rbind, lapply(per_draw, `[[`, "shift"))
   alignment <- do.call(rbind, lapply(per_draw, `[[`, "alignment"))
-  posterior_sd <- apply(as.matrix(fit$stanfit, pars = "tf"), 2, stats::sd)
-  lo <- data$scaling$t_min
-  span <- data$scaling$t_max - lo
+  # the shift in posterior sds of tf on the scale the emulator works on;
+  # the spreads in physical units, where the priors are stated
+  posterior_sd_unit <- apply(as.matrix(fit$stanfit, pars = "tf"), 2, stats::sd)
+  bounds <- t_bounds(data$scaling)
+  span <- bounds$upper - bounds$lower
   prior_sd <- vapply(seq_len(data$q), function(k) {
-    prior_sd_scaled(fit$priors$tf[[data$names$t[k]]], lo[[k]], span[[k]])
+    prior_sd_scaled(fit$priors$tf[[data$names$t[k]]], bounds$lower[[k]], span[[k]]) * span[[k]]
   }, numeric(1))
-  out <- data.frame(parameter = data$names$t, prior_sd = prior_sd * span,
-                    posterior_sd = posterior_sd * span, sd_ratio = posterior_sd / prior_sd,
-                    shift = apply(shift, 2, stats::median) / posterior_sd,
+  posterior_sd <- unname(apply(parameter_draws(fit), 2, stats::sd))
+  out <- data.frame(parameter = data$names$t, prior_sd = prior_sd,
+                    posterior_sd = posterior_sd, sd_ratio = posterior_sd / prior_sd,
+                    shift = apply(shift, 2, stats::median) / posterior_sd_unit,
                     alignment = apply(alignment, 2, stats::median), row.names = NULL)
-  if (refit) out$moved <- moved_by_discrepancy(fit, posterior_sd)
+  if (refit) out$moved <- moved_by_discrepancy(fit, posterior_sd_unit)
   confounded <- abs(out$shift) > 2 | (if (refit) abs(out$moved) > 2 else FALSE)
   out$verdict <- ifelse(confounded, "confounded with the discrepancy",
                         ifelse(out$sd_ratio > 0.8, "prior-driven",

@@ -7,7 +7,9 @@
 #' package is installed.
 #'
 #' @param field A [koh_data()] object, or the field data frame (then `sim` is
-#'   required and columns are found as [koh_data()] describes).
+#'   required and columns are found as [koh_data()] describes, each
+#'   calibration parameter on the scale `scales = "auto"` picks; pass
+#'   `koh_data(field, sim, scales = "identity")` for the paper's model).
 #' @param sim The simulation data frame when `field` is a data frame.
 #' @param priors A [koh_priors()] object.
 #' @param chains,iter Number of Markov chains and iterations per chain
@@ -231,10 +233,7 @@ as_draws_array.koh_fit <- function(x, ...) {
                                       if (length(h_names) > 0L) "gamma",
                                       if (length(b_names) > 0L) "b", "lp__"))
   tf <- grep("^tf\\[", dimnames(arr)[[3]])
-  for (k in seq_along(tf)) {
-    arr[, , tf[k]] <- arr[, , tf[k]] * (d$scaling$t_max[[k]] - d$scaling$t_min[[k]]) +
-      d$scaling$t_min[[k]]
-  }
+  for (k in seq_along(tf)) arr[, , tf[k]] <- unscale_t1(arr[, , tf[k]], d$scaling, k)
   dimnames(arr)[[3]] <- c(d$names$t, emulator_draw_names(d)$beta_eta,
                           sprintf("beta_delta[%s]", d$names$x),
                           "lambda_eta", "lambda_delta", "lambda_e",

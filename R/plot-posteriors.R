@@ -32,12 +32,12 @@ plot_posteriors <- function(fit, n_grid = 200) {
 plot_posteriors_data <- function(fit, n_grid = 200) {
   data <- fit$data
   draws <- parameter_draws(fit)
+  bounds <- t_bounds(data$scaling)
   rows <- lapply(seq_len(data$q), function(k) {
     name <- data$names$t[k]
-    lo <- data$scaling$t_min[[k]]
-    hi <- data$scaling$t_max[[k]]
-    post <- stats::density(as.vector(draws[, name]), from = lo, to = hi, n = n_grid)
-    prior <- prior_density(fit$priors$tf[[name]], post$x, lo, hi)
+    post <- stats::density(as.vector(draws[, name]), from = bounds$lower[[k]],
+                           to = bounds$upper[[k]], n = n_grid)
+    prior <- prior_density(fit$priors$tf[[name]], post$x, bounds$lower[[k]], bounds$upper[[k]])
     data.frame(parameter = name, value = c(post$x, post$x),
                density = c(post$y, prior),
                curve = rep(c("posterior", "prior"), each = n_grid))
@@ -47,7 +47,9 @@ plot_posteriors_data <- function(fit, n_grid = 200) {
   out
 }
 
-# Prior density in physical units over [lo, hi] (flat when no prior is given).
+# Prior density in physical units over [lo, hi], the design range (flat
+# when no prior is given). Priors are stated in physical units whatever
+# scale the emulator works on (tf_prior_lpdf() in koh_functions.stan).
 prior_density <- function(prior, value, lo, hi) {
   if (is.null(prior) || prior$family == "uniform") {
     return(rep(1 / (hi - lo), length(value)))

@@ -252,8 +252,9 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
 }
 
 # The part of every program's data block that koh_prior_data.stan declares:
-# the tf priors on the [0, 1] scale (checked: each names a parameter, its
-# mean in the design range), the hyperpriors, the discrepancy terms and the
+# the tf priors on the [0, 1] scale of physical units (checked: each names a
+# parameter, its mean in the design range) with each parameter's scale for
+# the change of variables (tf_prior_lpdf() in koh_functions.stan), the hyperpriors, the discrepancy terms and the
 # emulator mean.
 koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
   t_names <- data$names$t
@@ -266,11 +267,12 @@ koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
   q <- data$q
   is_normal <- mu <- numeric(q)
   sd <- rep(1, q)
+  bounds <- t_bounds(data$scaling)
   for (k in seq_len(q)) {
     pr <- priors$tf[[t_names[k]]]
     if (is.null(pr) || pr$family == "uniform") next
-    lo <- data$scaling$t_min[[k]]
-    hi <- data$scaling$t_max[[k]]
+    lo <- bounds$lower[[k]]
+    hi <- bounds$upper[[k]]
     if (pr$mu < lo || pr$mu > hi) {
       abort_bayesbem(c("The prior mean of {.field {t_names[k]}} must lie in its design range [{signif(lo, 4)}, {signif(hi, 4)}].",
                        x = "It is {pr$mu}.",
@@ -284,6 +286,10 @@ koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
   b_select <- mean_selection(priors, data$p, q)
   list(
     tf_is_normal = as.array(is_normal), tf_mu = as.array(mu), tf_sd = as.array(sd),
+    tf_scale = as.array(match(t_scales(data$scaling), names(scale_functions)) - 1),
+    tf_lo = as.array(unname(data$scaling$t_min)),
+    tf_span = as.array(unname(data$scaling$t_max - data$scaling$t_min)),
+    tf_v_lo = as.array(unname(bounds$lower)), tf_v_span = as.array(unname(bounds$upper - bounds$lower)),
     rho_eta_a = priors$rho_eta[1], rho_eta_b = priors$rho_eta[2],
     rho_delta_a = priors$rho_delta[1], rho_delta_b = priors$rho_delta[2],
     lambda_eta_shape = priors$lambda_eta[1],

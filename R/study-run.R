@@ -24,10 +24,10 @@ study_posteriors <- function(fits, key) {
     fit <- fits[[label]]
     draws <- parameter_draws(fit)
     q <- column_quantiles(draws, c(0.05, 0.25, 0.5, 0.75, 0.95))
-    s <- fit$data$scaling
     data.frame(setting = label, parameter = colnames(draws), mean = colMeans(draws),
                sd = apply(draws, 2, stats::sd), q,
-               scaled = (q[, "q50"] - s$t_min) / (s$t_max - s$t_min), row.names = NULL)
+               scaled = vapply(seq_len(nrow(q)), function(k) scale_t1(q[k, "q50"], fit$data$scaling, k),
+                                numeric(1)), row.names = NULL)
   })
   out <- do.call(rbind, rows)
   names(out)[1] <- key

@@ -36,10 +36,23 @@ reference_log_density <- function(sd, pars) {
   z <- c(sd$y, sd$eta) - shift
   r <- chol(sigma)
   ll <- -0.5 * N * log(2 * pi) - sum(log(diag(r))) - 0.5 * sum(backsolve(r, z, transpose = TRUE)^2)
+  # the prior is stated on w, the physical value mapped to [0, 1]; tf is w
+  # on the parameter's scale (identity, log, reciprocal), so its density
+  # carries |dw / dtf|, here by central differences
+  to_physical <- function(k, u) {
+    s <- sd$tf_lo[k] + sd$tf_span[k] * u
+    v <- switch(sd$tf_scale[k] + 1, s, exp(s), -1 / s)
+    (v - sd$tf_v_lo[k]) / sd$tf_v_span[k]
+  }
   lp_tf <- 0
   for (k in seq_len(sd$q)) {
+    w <- to_physical(k, pars$tf[k])
+    if (sd$tf_scale[k] > 0) {
+      h <- 1e-5
+      lp_tf <- lp_tf + log((to_physical(k, pars$tf[k] + h) - to_physical(k, pars$tf[k] - h)) / (2 * h))
+    }
     if (sd$tf_is_normal[k] == 1) {
-      lp_tf <- lp_tf + stats::dnorm(pars$tf[k], sd$tf_mu[k], sd$tf_sd[k], log = TRUE) -
+      lp_tf <- lp_tf + stats::dnorm(w, sd$tf_mu[k], sd$tf_sd[k], log = TRUE) -
         log(stats::pnorm(1, sd$tf_mu[k], sd$tf_sd[k]) - stats::pnorm(0, sd$tf_mu[k], sd$tf_sd[k]))
     }
   }

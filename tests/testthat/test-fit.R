@@ -18,6 +18,27 @@ test_that("the Stan log density equals the method's, computed independently in R
   }
 })
 
+test_that("on log and reciprocal scales the priors stay in physical units", {
+  skip_on_cran()
+  d <- koh_data(seb_field, seb_sim, scales = c(fan_total_efficiency = "reciprocal",
+                                               infiltration_per_exterior_area = "log"))
+  withr::local_seed(43)
+  # a flat prior on the reciprocal scale, normal priors on each scale
+  for (fan in list(NULL, prior_normal(0.5, 0.3))) {
+    priors <- koh_priors(tf = c(if (!is.null(fan)) list(fan_total_efficiency = fan),
+                                prior_level("weak", c(equipment_power_density = 20,
+                                                      infiltration_per_exterior_area = 0.0008))))
+    sd <- bayesbem:::koh_stan_data(d, priors)
+    expect_equal(as.vector(sd$tf_scale), c(2, 0, 1))
+    model <- koh_model_for(sd)
+    for (i in 1:2) {
+      pars <- random_koh_pars(sd)
+      expect_equal(stan_log_density(model, pars), reference_log_density(sd, pars),
+                   tolerance = 1e-8)
+    }
+  }
+})
+
 test_that("the Stan log density matches on other sizes, with outputs sampled in Stan", {
   skip_on_cran()
   withr::local_seed(7)
@@ -46,7 +67,8 @@ test_that("the grid program's log density equals the dense program's", {
   # with two parametric discrepancy terms (extend())
   random <- bayesbem:::add_discrepancy_terms(random_grid_data(extra = 2),
                                              data.frame(w1 = rnorm(7), w2 = rep(0:1, c(3, 4))))
-  k2_mid <- (random$scaling$t_min[["k2"]] + random$scaling$t_max[["k2"]]) / 2
+  bounds <- bayesbem:::t_bounds(random$scaling)
+  k2_mid <- (bounds$lower[["k2"]] + bounds$upper[["k2"]]) / 2
   problems <- list(
     shipped = list(d = koh_data(seb_field, seb_sim),
                    priors = koh_priors(tf = prior_level("weak", c(equipment_power_density = 20)),

@@ -25,8 +25,8 @@ test_that("an informative prior is drawn as its truncated normal", {
 test_that("plot_posteriors_data() is the kernel density of the draws", {
   d <- plot_posteriors_data(seb_fit, n_grid = 64)
   draws <- as.vector(bayesbem:::parameter_draws(seb_fit)[, "fan_total_efficiency"])
-  lo <- seb_fit$data$scaling$t_min[["fan_total_efficiency"]]
-  hi <- seb_fit$data$scaling$t_max[["fan_total_efficiency"]]
+  lo <- min(seb_sim$fan_total_efficiency)
+  hi <- max(seb_sim$fan_total_efficiency)
   expected <- stats::density(draws, from = lo, to = hi, n = 64)$y
   post <- d[d$parameter == "fan_total_efficiency" & d$curve == "posterior", ]
   expect_equal(post$density, expected, tolerance = 1e-8)

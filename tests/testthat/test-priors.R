@@ -27,6 +27,8 @@ test_that("the scaled set centres the emulator's variance on what its mean leave
   # independently: the runs (standardised by their own mean and sd) less
   # their least-squares plane in the scaled inputs and parameters
   runs <- seb_sim
+  # fan efficiency is on the reciprocal scale (koh_data(scales = "auto"))
+  runs$fan_total_efficiency <- -1 / runs$fan_total_efficiency
   eta <- (runs$eta - mean(runs$eta)) / stats::sd(runs$eta)
   inputs <- c("temp", "rh", "solar", "equipment_power_density", "fan_total_efficiency",
               "infiltration_per_exterior_area")

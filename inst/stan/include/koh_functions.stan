@@ -144,13 +144,33 @@
            + rep_matrix((tc * tail(coef, cols(tc)))', rows(x_grid));
   }
 
-  /* Log prior of tf on [0, 1]: U(0, 1) where is_normal[k] is 0, otherwise
-   * normal(mu[k], sd[k]) truncated to [0, 1] (the paper's informative levels). */
-  real tf_prior_lpdf(vector tf, vector is_normal, vector mu, vector sd) {
+  /* Log prior density of tf, each calibration parameter mapped to [0, 1]
+   * by its design range on its scale (data-scales.R): s = lo + span * tf is
+   * the parameter on that scale, v = s (identity, scale 0), exp(s) (log, 1)
+   * or -1 / s (reciprocal, 2) in physical units, and w = (v - v_lo) / v_span
+   * the physical value mapped to [0, 1] by the same range. The prior is
+   * stated on w, as in the paper, whatever the scale: U(0, 1) where
+   * is_normal[k] is 0, otherwise normal(mu[k], sd[k]) truncated to [0, 1];
+   * so tf's density is the prior of w times |dw / dtf| = |dv / ds| span /
+   * v_span (change of variables), with dv / ds = exp(s) or 1 / s^2. */
+  real tf_prior_lpdf(vector tf, vector is_normal, vector mu, vector sd, vector scale,
+                     vector lo, vector span, vector v_lo, vector v_span) {
     real lp = 0;
     for (k in 1:rows(tf)) {
+      real s = lo[k] + span[k] * tf[k];
+      real w = tf[k];
+      if (scale[k] > 0.5) {
+        if (scale[k] < 1.5) {
+          w = (exp(s) - v_lo[k]) / v_span[k];
+          lp = lp + s;
+        } else {
+          w = (-1 / s - v_lo[k]) / v_span[k];
+          lp = lp - 2 * log(-s);
+        }
+        lp = lp + log(span[k]) - log(v_span[k]);
+      }
       if (is_normal[k] > 0.5) {
-        lp = lp + normal_lpdf(tf[k] | mu[k], sd[k])
+        lp = lp + normal_lpdf(w | mu[k], sd[k])
              - log_diff_exp(normal_lcdf(1 | mu[k], sd[k]), normal_lcdf(0 | mu[k], sd[k]));
       }
     }

@@ -2,6 +2,13 @@
   vector<lower=0, upper=1>[q] tf_is_normal;
   vector<lower=0, upper=1>[q] tf_mu;
   vector<lower=0>[q] tf_sd;
+  // each parameter's scale (0 identity, 1 log, 2 reciprocal), its design
+  // range on that scale (tf = (s - tf_lo) / tf_span) and in physical units
+  vector<lower=0, upper=2>[q] tf_scale;
+  vector[q] tf_lo;
+  vector<lower=0>[q] tf_span;
+  vector[q] tf_v_lo;
+  vector<lower=0>[q] tf_v_span;
   // hyperpriors: rho ~ beta(a, b); lambda ~ gamma(shape, rate)
   real<lower=0> rho_eta_a;
   real<lower=0> rho_eta_b;
