@@ -254,8 +254,8 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
 # The part of every program's data block that koh_prior_data.stan declares:
 # the tf priors on the [0, 1] scale of physical units (checked: each names a
 # parameter, its mean in the design range) with each parameter's scale for
-# the change of variables (tf_prior_lpdf() in koh_functions.stan), the hyperpriors, the discrepancy terms and the
-# emulator mean.
+# the change of variables (tf_prior_lpdf() in koh_functions.stan), the
+# hyperpriors, the discrepancy terms and the emulator mean.
 koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
   t_names <- data$names$t
   unknown <- setdiff(names(priors$tf), t_names)

@@ -26,8 +26,7 @@ study_posteriors <- function(fits, key) {
     q <- column_quantiles(draws, c(0.05, 0.25, 0.5, 0.75, 0.95))
     data.frame(setting = label, parameter = colnames(draws), mean = colMeans(draws),
                sd = apply(draws, 2, stats::sd), q,
-               scaled = vapply(seq_len(nrow(q)), function(k) scale_t1(q[k, "q50"], fit$data$scaling, k),
-                                numeric(1)), row.names = NULL)
+               scaled = drop(scale_t(rbind(q[, "q50"]), fit$data$scaling)), row.names = NULL)
   })
   out <- do.call(rbind, rows)
   names(out)[1] <- key
