@@ -3,7 +3,7 @@
 # fit (koh_emulator.stan on at most 60 grid inputs; koh_modular.stan with the
 # emulator fixed), for n daily field periods of 2013 and mt runs of the
 # embedded model (the paper's three calibration parameters, LHS design),
-# with the default priors (linear emulator mean). Median of repeated
+# with the default priors (linear emulator mean). Mean of repeated
 # rstan::grad_log_prob() calls at one point; one core.
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-gradient.R [n values, comma-separated] [mt]
@@ -12,12 +12,14 @@ args <- commandArgs(trailingOnly = TRUE)
 ns <- if (length(args) > 0) as.integer(strsplit(args[1], ",")[[1]]) else c(36, 120, 365)
 mt <- if (length(args) > 1) as.integer(args[2]) else 30L
 
-grad_time <- function(model, data, reps = 10) {
+# Mean time of one rstan::grad_log_prob() call over about a second of
+# repeated calls (one call is below the timer's 1 ms resolution at small n).
+grad_time <- function(model, data, seconds = 1) {
   utils::capture.output(fit0 <- rstan::sampling(model, data = data, chains = 0))
   upars <- rep(0.1, rstan::get_num_upars(fit0))
-  stats::median(vapply(seq_len(reps), function(i) {
-    system.time(rstan::grad_log_prob(fit0, upars))[["elapsed"]]
-  }, numeric(1)))
+  one <- system.time(rstan::grad_log_prob(fit0, upars))[["elapsed"]]
+  reps <- max(3L, ceiling(seconds / max(one, 1e-3)))
+  system.time(for (i in seq_len(reps)) rstan::grad_log_prob(fit0, upars))[["elapsed"]] / reps
 }
 
 daily <- epw_daily(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))

@@ -1,1 +1,3 @@
-// Headers every Stan model of the package includes (none needed yet).
+// Included by every Stan model of the package (rstantools), inside the
+// model's namespace, before the model class.
+#include "normal_two_kernels.hpp"

@@ -37,11 +37,20 @@ model {
   matrix[n_x, n_x] Kx = jittered_cor(nd2_xx, eq_xx, head(beta_eta, p), nugget);
   matrix[mt, mt] Kt = jittered_cor(nd2_tt, eq_tt, tail(beta_eta, q), nugget);
   vector[mt] k0 = tf_cor(tf', tc, tail(beta_eta, q));
-  matrix[n, n] sigma_delta = sq_exp_cov(nd2_ff, beta_delta, lambda_delta, n, n);
 #include /include/koh_priors.stan
   // the Gaussian processes model what the emulator mean and the discrepancy
-  // terms leave: eta - h(x, t)' b at the runs, y - h(xf, tf)' b - h' gamma
-  target += koh_grid_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef) - discrepancy_terms(h, gamma)
-                          | eta - grid_mean(x_grid, tc, coef), Kx, Kt, k0, sigma_delta, lambda_eta,
-                          lambda_e, nugget);
+  // terms leave: eta - h(x, t)' b at the runs, y - h(xf, tf)' b - h' gamma.
+  // The log density is that of koh.stan without forming its covariance: the
+  // runs' Kronecker density times the field outputs' density given the runs.
+  {
+    matrix[n_x, mt] E = eta - grid_mean(x_grid, tc, coef);
+    matrix[mt, mt] Lt = cholesky_decompose(Kt);
+    vector[mt + 1] wc = runs_weights(Lt, k0, nugget);
+    target += runs_grid_lpdf(E | cholesky_decompose(Kx), Lt, lambda_eta);
+    target += normal_two_kernels_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef)
+                                      - discrepancy_terms(h, gamma)
+                                      - block(E, 1, 1, n, mt) * head(wc, mt)
+                                      | block(Kx, 1, 1, n, n), wc[mt + 1] / lambda_eta, nd2_ff,
+                                      beta_delta, lambda_delta, 1 / lambda_e);
+  }
 }

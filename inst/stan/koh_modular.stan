@@ -4,7 +4,8 @@
 // (koh_emulator.stan). Everything that depends on the emulator alone is
 // data: the runs less the emulator mean at the field inputs, E_f, the field
 // block of Kx and the Cholesky factor of Kt. Each gradient then costs one
-// n x n Cholesky factor, O(n^3 + n mt + mt^2). The log density is that of
+// Cholesky factor and one inverse of an n x n matrix, in C++ with the
+// analytic gradient, O(n^3 + n mt + mt^2). The log density is that of
 // koh_grid.stan given the runs, at the fixed emulator.
 functions {
 #include /include/koh_functions.stan
@@ -41,18 +42,17 @@ transformed parameters {
   vector[p] beta_delta = -4 * log(rho_delta);
 }
 model {
-  vector[mt] k0 = tf_cor(tf', tc, tail(beta_eta_fixed, q));
-  matrix[n, n] sigma_delta = sq_exp_cov(nd2_ff, beta_delta, lambda_delta, n, n);
+  vector[mt + 1] wc = runs_weights(Lt, tf_cor(tf', tc, tail(beta_eta_fixed, q)), nugget);
   target += beta_lpdf(rho_delta | rho_delta_a, rho_delta_b);
   target += gamma_lpdf(lambda_delta | lambda_delta_shape, lambda_delta_rate);
   target += gamma_lpdf(lambda_e | lambda_e_shape, lambda_e_rate);
   target += tf_prior_lpdf(tf | tf_is_normal, tf_mu, tf_sd, tf_scale, tf_lo, tf_span, tf_v_lo,
                             tf_v_span);
   target += normal_lpdf(gamma | 0, gamma_sd);
-  target += field_given_runs_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef)
-                                  - discrepancy_terms(h, gamma)
-                                  | E_f, Kx_ff, Lt, k0, sigma_delta, lambda_eta_fixed, lambda_e,
-                                  nugget);
+  target += normal_two_kernels_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef)
+                                    - discrepancy_terms(h, gamma) - E_f * head(wc, mt)
+                                    | Kx_ff, wc[mt + 1] / lambda_eta_fixed, nd2_ff, beta_delta,
+                                    lambda_delta, 1 / lambda_e);
 }
 generated quantities {
   // the fixed emulator, under the names of the joint programs

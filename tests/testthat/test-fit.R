@@ -93,6 +93,34 @@ test_that("the grid program's log density equals the dense program's", {
   }
 })
 
+# The field density of the grid and modular programs has a hand-written
+# gradient (inst/include/normal_two_kernels.hpp); Stan's gradient must equal
+# central finite differences of Stan's own log density.
+test_that("the grid and modular gradients equal finite differences", {
+  skip_on_cran()
+  withr::local_seed(12)
+  d <- random_grid_data(extra = 2)
+  priors <- koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)), nugget = 1e-4)
+  grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
+  pars <- random_koh_pars(bayesbem:::koh_stan_data(d, priors, structure = "dense"))
+  emulator <- list(beta_eta = -4 * log(pars$rho_eta), lambda_eta = pars$lambda_eta, b = pars$b)
+  models <- list(
+    koh_grid = list(sd = grid, pars = pars[names(pars) != "y_pred"]),
+    koh_modular = list(sd = bayesbem:::modular_stan_data(d, priors, emulator),
+                       pars = pars[c("tf", "rho_delta", "lambda_delta", "lambda_e", "gamma")])
+  )
+  for (program in names(models)) {
+    model <- koh_model_for(models[[program]]$sd, program)
+    upars <- rstan::unconstrain_pars(model, models[[program]]$pars)
+    numeric_grad <- vapply(seq_along(upars), function(k) {
+      h <- 1e-5 * replace(numeric(length(upars)), k, 1)
+      (rstan::log_prob(model, upars + h) - rstan::log_prob(model, upars - h)) / 2e-5
+    }, numeric(1))
+    grad <- rstan::grad_log_prob(model, upars)
+    expect_equal(as.vector(grad), numeric_grad, tolerance = 1e-6)
+  }
+})
+
 test_that("a failing Cholesky factor is named, with the fix", {
   skip_on_cran()
   # months 1 and 2 at inputs 1e-10 apart: K_x is singular without a nugget

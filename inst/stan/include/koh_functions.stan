@@ -85,32 +85,22 @@
                    + lambda_eta * sum(columns_dot_self(white)));
   }
 
-  /* Log density of the field outputs given the runs on a grid, with
-   * w = Kt^-1 k0 (from Lt and k0 = k_t(tf, t_a)) and c = 1 + nugget - k0' w:
-   *   y | E ~ N((E w)[1:n], c Kx_ff / lambda_eta + Sigma_delta + I / lambda_e)
-   * (inst/notes/design.md, "Grid designs"). E_f holds the first n rows of E
-   * (the field inputs), Kx_ff the field block of Kx. */
-  real field_given_runs_lpdf(vector y, matrix E_f, matrix Kx_ff, matrix Lt, vector k0,
-                             matrix sigma_delta, real lambda_eta, real lambda_e, real nugget) {
-    vector[rows(Lt)] v = mdivide_left_tri_low(Lt, k0);
-    vector[rows(Lt)] w = mdivide_right_tri_low(v', Lt)';   // Kt^-1 k0
-    real c = 1 + nugget - dot_self(v);
-    matrix[rows(y), rows(y)] sigma_y = add_diag(c * Kx_ff / lambda_eta + sigma_delta,
-                                                1 / lambda_e);
-    return multi_normal_cholesky_lpdf(y | E_f * w, cholesky_decompose(sigma_y));
-  }
+  /* Log density of r ~ N(0, a K + S + d I), S the squared-exponential
+   * kernel sq_exp_cov(nd2, beta, lambda, n, n) (method Eq 2). Defined in C++
+   * with its analytic gradient (inst/include/normal_two_kernels.hpp): one
+   * Cholesky factor and one inverse of the n x n covariance per gradient.
+   * Only the model blocks call it (the C++ is visible there, not here). */
+  real normal_two_kernels_lpdf(vector r, matrix K, real a, matrix nd2, vector beta, real lambda,
+                               real d);
 
-  /* Log density of the KOH model on a grid design (every run made at the
-   * n_x grid inputs, the n field inputs first), exactly that of koh_cov()
-   * without forming it: the runs' Kronecker density times the field outputs'
-   * density given the runs. */
-  real koh_grid_lpdf(vector y, matrix E, matrix Kx, matrix Kt, vector k0,
-                     matrix sigma_delta, real lambda_eta, real lambda_e, real nugget) {
-    int n = rows(y);
-    matrix[rows(Kt), rows(Kt)] Lt = cholesky_decompose(Kt);
-    return runs_grid_lpdf(E | cholesky_decompose(Kx), Lt, lambda_eta)
-           + field_given_runs_lpdf(y | block(E, 1, 1, n, cols(E)), block(Kx, 1, 1, n, n), Lt, k0,
-                                   sigma_delta, lambda_eta, lambda_e, nugget);
+  /* The field outputs given the runs on a grid (inst/notes/design.md, "Grid
+   * designs"):
+   *   y | E ~ N((E w)[1:n], c Kx_ff / lambda_eta + Sigma_delta + I / lambda_e),
+   * w = Kt^-1 k0 and c = 1 + nugget - k0' Kt^-1 k0, from the Cholesky factor
+   * Lt of Kt and k0 = k_t(tf, t_a). Returns append_row(w, c). */
+  vector runs_weights(matrix Lt, vector k0, real nugget) {
+    vector[rows(Lt)] v = mdivide_left_tri_low(Lt, k0);
+    return append_row(mdivide_right_tri_low(v', Lt)', 1 + nugget - dot_self(v));
   }
 
   /* The parametric discrepancy terms h * gamma at the field rows (zero when

@@ -1,0 +1,119 @@
+// normal_two_kernels_lpdf(), declared in inst/stan/include/koh_functions.stan
+// and defined here with its analytic gradient. It is the cost of every
+// gradient of the grid and modular programs at large n: Stan's reverse mode
+// through a 365 x 365 Cholesky factor takes ~46 ms, this ~10 ms
+// (bench/bench-gradient.R).
+//
+// This file is included by stan_meta_header.hpp inside each model's
+// namespace, after the functions the Stan code defines and before the model
+// class. The macro below points the class's calls at the definition here,
+// so the definition does not have to repeat the exact template signature
+// that stanc writes for the declaration (it differs between stanc2, used
+// with rstan 2.21, and stanc3); the declaration itself is never called.
+
+namespace bayesbem_cpp {
+
+// Adds x to the operands with the partial derivative g; data add nothing.
+inline void add_operand(std::vector<stan::math::var>& ops, std::vector<double>& grads,
+                        const stan::math::var& x, double g) {
+  ops.push_back(x);
+  grads.push_back(g);
+}
+inline void add_operand(std::vector<stan::math::var>&, std::vector<double>&, double,
+                        double) {}
+
+template <typename T, int R, int C>
+inline void add_operands(std::vector<stan::math::var>& ops, std::vector<double>& grads,
+                         const Eigen::Matrix<T, R, C>& x, const Eigen::MatrixXd& g) {
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    add_operand(ops, grads, x(i), g(i));
+  }
+}
+
+// The log density as a double, or as a var holding its partial derivatives.
+inline double finish(double lp, const std::vector<stan::math::var>&,
+                     const std::vector<double>&, double*) {
+  return lp;
+}
+inline stan::math::var finish(double lp, const std::vector<stan::math::var>& ops,
+                              const std::vector<double>& grads, stan::math::var*) {
+  return stan::math::precomputed_gradients(lp, ops, grads);
+}
+
+/* Log density of r ~ N(0, Sigma) with
+ *   Sigma = a K + S + d I,  S[i, j] = exp(sum_k beta[k] nd2[i + n j, k] - log(lambda)),
+ * nd2 from neg_sqdist() (its last column of -1 unused here), so S is the
+ * squared-exponential kernel (1 / lambda) exp(-sum_k beta[k] (u_ik - u_jk)^2)
+ * (method Eq 2). One Cholesky factor of Sigma gives the value,
+ *   -0.5 (n log(2 pi) + log|Sigma| + r' alpha),  alpha = Sigma^-1 r,
+ * and Sigma^-1 gives every partial derivative (Rasmussen & Williams 2006,
+ * Eq 5.9): d/dtheta = tr(W dSigma/dtheta) with W = (alpha alpha' - Sigma^-1) / 2,
+ * so d/dr = -alpha, d/dK = a W, d/da = sum(W .* K), d/dbeta[k] =
+ * sum(W .* S .* nd2[, k]), d/dlambda = -sum(W .* S) / lambda, d/dd = tr(W). */
+template <typename TR, typename TK, typename TA, typename TD2, typename TB, typename TL,
+          typename TJ>
+typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
+    const TR& r_in, const TK& K_in, const TA& a, const TD2& nd2_in, const TB& beta_in,
+    const TL& lambda, const TJ& d) {
+  using stan::math::value_of;
+  typedef typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type result_t;
+  const Eigen::Matrix<typename TR::Scalar, Eigen::Dynamic, 1> r = r_in;
+  const Eigen::Matrix<typename TK::Scalar, Eigen::Dynamic, Eigen::Dynamic> K = K_in;
+  const Eigen::Matrix<typename TB::Scalar, Eigen::Dynamic, 1> beta = beta_in;
+  const Eigen::MatrixXd nd2 = value_of(nd2_in);
+  const Eigen::Index n = r.size();
+  const Eigen::Index P = beta.size();
+  stan::math::check_square("normal_two_kernels_lpdf", "K", K);
+  stan::math::check_size_match("normal_two_kernels_lpdf", "rows of K", K.rows(), "size of r", n);
+  stan::math::check_size_match("normal_two_kernels_lpdf", "rows of nd2", nd2.rows(),
+                               "size of r squared", n * n);
+  stan::math::check_size_match("normal_two_kernels_lpdf", "columns of nd2", nd2.cols(),
+                               "size of beta plus 1", P + 1);
+  const Eigen::VectorXd rv = value_of(r);
+  const Eigen::MatrixXd Kv = value_of(K);
+  const double av = value_of(a);
+  const double lambdav = value_of(lambda);
+  const Eigen::VectorXd log_s = nd2.leftCols(P) * value_of(beta);
+  const Eigen::MatrixXd S = Eigen::Map<const Eigen::MatrixXd>(log_s.data(), n, n)
+                                .array()
+                                .exp()
+                                .matrix() /
+                            lambdav;
+  Eigen::MatrixXd sigma = av * Kv + S;
+  sigma.diagonal().array() += value_of(d);
+  const Eigen::LLT<Eigen::MatrixXd> llt(sigma);
+  if (llt.info() != Eigen::Success) {
+    throw std::domain_error("normal_two_kernels_lpdf: the covariance is not positive definite");
+  }
+  const Eigen::VectorXd alpha = llt.solve(rv);
+  const double log_det = 2 * llt.matrixLLT().diagonal().array().log().sum();
+  const double lp = -0.5 * (n * std::log(2 * stan::math::pi()) + log_det + rv.dot(alpha));
+
+  const Eigen::MatrixXd W =
+      0.5 * (alpha * alpha.transpose() - llt.solve(Eigen::MatrixXd::Identity(n, n)));
+  const Eigen::MatrixXd WS = W.cwiseProduct(S);
+  const Eigen::VectorXd d_beta =
+      nd2.leftCols(P).transpose() * Eigen::Map<const Eigen::VectorXd>(WS.data(), n * n);
+  std::vector<stan::math::var> ops;
+  std::vector<double> grads;
+  add_operands(ops, grads, r, -alpha);
+  add_operands(ops, grads, K, av * W);
+  add_operand(ops, grads, a, W.cwiseProduct(Kv).sum());
+  add_operands(ops, grads, beta, d_beta);
+  add_operand(ops, grads, lambda, -WS.sum() / lambdav);
+  add_operand(ops, grads, d, W.trace());
+  return finish(lp, ops, grads, static_cast<result_t*>(nullptr));
+}
+
+}  // namespace bayesbem_cpp
+
+// The Stan programs call normal_two_kernels_lpdf<propto>(..., pstream__) or,
+// under stanc2, without the template argument; both reach this definition.
+template <bool propto = false, typename TR, typename TK, typename TA, typename TD2,
+          typename TB, typename TL, typename TJ>
+typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type bayesbem_normal_two_kernels_lpdf(
+    const TR& r, const TK& K, const TA& a, const TD2& nd2, const TB& beta, const TL& lambda,
+    const TJ& d, std::ostream* pstream__) {
+  return bayesbem_cpp::normal_two_kernels(r, K, a, nd2, beta, lambda, d);
+}
+#define normal_two_kernels_lpdf bayesbem_normal_two_kernels_lpdf
