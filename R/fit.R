@@ -42,9 +42,15 @@
 #'   of the grid inputs), then the calibration parameters, the discrepancy
 #'   and the noise with the emulator fixed at the stage-1 posterior medians.
 #'   The field data then cannot pull the emulator into modes that only
-#'   explain them, and each stage-2 gradient costs one n x n Cholesky
-#'   factor. Needs a grid design. [check_convergence()] judges the emulator's
-#'   hyperparameters on their stage-1 chains (stored in `fit$emulator`).
+#'   explain them, and each stage-2 gradient costs one Cholesky factor and
+#'   one inverse of an n x n matrix. Needs a grid design.
+#'   [check_convergence()] judges the emulator's hyperparameters on their
+#'   stage-1 chains (stored in `fit$emulator`). `"auto"` (the default) fits
+#'   in two stages when there are more than 36 field rows on a grid design
+#'   (and `predict_at` is not given), jointly otherwise: in the reliability
+#'   benchmark (`bench/RESULTS.md`) joint fits converged up to 36 months
+#'   but not at 120 days, where the modular fit converged in a tenth of the
+#'   time; with 12 months and 10 runs, stage 1 alone can be bimodal.
 #' @param minor_modes What to do with a chain stuck in a minor mode of the
 #'   posterior: `"drop"` it (with a message) or `"keep"` it. Each chain's
 #'   mode gets a Laplace estimate of its posterior mass from the chain's
@@ -77,7 +83,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       cores = getOption("mc.cores", 1L),
                       control = list(adapt_delta = 0.9), predict_at = NULL,
                       structure = c("auto", "grid", "dense"), covariates = NULL,
-                      modular = FALSE, minor_modes = c("drop", "keep"),
+                      modular = "auto", minor_modes = c("drop", "keep"),
                       progress = getOption("bayesbem.progress", TRUE), ...) {
   data <- as_koh_data(field, sim)
   data <- add_discrepancy_terms(data, covariates)
@@ -99,7 +105,11 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   check_count(seed)
   structure <- choose_structure(data, match_choice(structure), predict_at)
   check_bool(progress)
-  check_modular(modular, structure)
+  if (!is.list(control)) {
+    abort_bayesbem("{.arg control} must be a list such as {.code list(adapt_delta = 0.95)}, not {describe_value(control)}.",
+                   "argument")
+  }
+  modular <- choose_modular(modular, data, structure)
   minor_modes <- match_choice(minor_modes)
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
@@ -149,13 +159,23 @@ inform_dropped <- function(dropped) {
   }
 }
 
-check_modular <- function(modular, structure, call = rlang::caller_env()) {
-  check_bool(modular, call = call)
+# modular = "auto": two stages for more than `max_joint` field rows on a grid
+# design, the joint fit otherwise (see the @param). TRUE needs a grid.
+choose_modular <- function(modular, data, structure, max_joint = 36L,
+                           call = rlang::caller_env()) {
+  if (identical(modular, "auto")) {
+    return(structure == "grid" && data$n > max_joint)
+  }
+  if (!rlang::is_bool(modular)) {
+    abort_bayesbem("{.arg modular} must be {.code TRUE}, {.code FALSE} or {.val auto}, not {describe_value(modular)}.",
+                   "argument", call = call)
+  }
   if (modular && structure != "grid") {
     abort_bayesbem(c("The modular fit needs a grid design: every simulation run at every field input.",
                      i = "Use {.code modular = FALSE}, or run the simulator at the field inputs (see {.fn simulate_design})."),
                    "argument", call = call)
   }
+  modular
 }
 
 # The rstan::sampling() arguments calibrate() passes on through `...` (it sets

@@ -18,12 +18,15 @@
 # Usage, from the package root, with bayesbem installed:
 #   [BENCH_CALIBRATE='list(...)'] Rscript bench/bench-reliability.R \
 #     [sizes as n:mt:problems, comma-separated; default 12:10:10,12:30:10,36:30:10,120:30:3,365:30:3]
+# `problems` is a count (problems 1 to k) or a range k1-k2 (e.g. 365:30:2-3).
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
 spec <- if (length(args) > 0) args[1] else "12:10:10,12:30:10,36:30:10,120:30:3,365:30:3"
 sizes <- do.call(rbind, lapply(strsplit(strsplit(spec, ",")[[1]], ":"), function(s) {
-  data.frame(n = as.integer(s[1]), mt = as.integer(s[2]), problems = as.integer(s[3]))
+  k <- as.integer(strsplit(s[3], "-")[[1]])
+  data.frame(n = as.integer(s[1]), mt = as.integer(s[2]), first = if (length(k) > 1) k[1] else 1L,
+             last = k[length(k)])
 }))
 extra <- eval(parse(text = Sys.getenv("BENCH_CALIBRATE", "list()")))
 
@@ -53,6 +56,7 @@ one_problem <- function(n, mt, k) {
              scales = paste(names(Filter(function(s) s != "identity", fit$data$scaling$t_scale)),
                             collapse = " "),
              covered = sum(covered),
+             missed = paste(names(truth)[!covered], collapse = " "),
              parameters = length(covered), wall_s = wall)
 }
 
@@ -62,7 +66,7 @@ cat(sprintf("machine: %s, %d cores; R %s; date %s\ncalibrate() extra arguments: 
 rows <- list()
 for (i in seq_len(nrow(sizes))) {
   s <- sizes[i, ]
-  for (k in seq_len(s$problems)) {
+  for (k in seq(s$first, s$last)) {
     r <- one_problem(s$n, s$mt, k)
     print(r, row.names = FALSE)
     rows[[length(rows) + 1L]] <- r

@@ -48,6 +48,19 @@ test_that("the modular fit needs a grid and says so", {
   expect_snapshot(calibrate(seb_field, seb_sim, modular = "yes"), error = TRUE)
 })
 
+test_that("modular = \"auto\" fits in two stages above 36 field rows on a grid", {
+  d12 <- koh_data(seb_field, seb_sim)
+  choose <- function(d, structure = "grid") bayesbem:::choose_modular("auto", d, structure)
+  expect_false(choose(d12))
+  problem <- bayesbem:::synthetic_problem(120, 10, 1)
+  d120 <- koh_data(problem$field, problem$runs)
+  expect_equal(d120$n, 120)
+  expect_true(choose(d120))
+  expect_false(choose(d120, "dense"))
+  expect_false(bayesbem:::choose_modular(FALSE, d120, "grid"))
+  expect_true(bayesbem:::choose_modular(TRUE, d12, "grid"))
+})
+
 test_that("modular and joint fits agree where the runs determine the emulator", {
   skip_on_cran()
   # a smooth simulator, well covered by 20 runs: the field data cannot teach

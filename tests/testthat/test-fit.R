@@ -194,6 +194,7 @@ test_that("calibrate() rejects bad arguments with classed errors", {
   expect_snapshot(calibrate(seb_field, seb_sim, iter = "500"), error = TRUE)
   expect_snapshot(calibrate(seb_field, seb_sim, iter = 100, warmup = 100), error = TRUE)
   expect_snapshot(calibrate(seb_field, seb_sim, priors = list()), error = TRUE)
+  expect_snapshot(calibrate(seb_field, seb_sim, control = 0.95), error = TRUE)
 })
 
 test_that("wrong argument types say what they are", {
