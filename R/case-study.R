@@ -13,8 +13,9 @@
 #' The paper ran 500 iterations per chain; here they leave two emulator
 #' length scales (`beta_eta[temp]`, `beta_eta[rh]`, whose posterior is
 #' bimodal) unconverged, so the default is 2000, which converges (every
-#' R-hat below 1.01) in about 15 seconds on 2 cores. `iter = 500` gives the
-#' paper's run, with a convergence warning.
+#' R-hat below 1.01, at [calibrate()]'s default `adapt_delta = 0.99`) in
+#' under a minute on one core. `iter = 500` gives the paper's run, with a
+#' convergence warning.
 #'
 #' @param chains,iter,seed,cores Passed to [calibrate()].
 #' @param priors A [koh_priors()] object.

@@ -106,8 +106,8 @@ warn_convergence <- function(conv) {
   if (length(problems) == 0L) {
     return(invisible(conv))
   }
-  hint <- c(i = paste("Run more iterations (e.g. {.code iter = 2000}); for divergences",
-                      "raise {.code control = list(adapt_delta = 0.95)}, for tree depth",
+  hint <- c(i = paste("Run more iterations (e.g. double {.arg iter}); for divergences",
+                      "raise {.code control = list(adapt_delta = 0.995)}, for tree depth",
                       "{.code control = list(max_treedepth = 12)}; check",
                       "{.code plot(fit, type = \"trace\")}."))
   warn_bayesbem(c("The calibration may not have converged.", problems, hint), "convergence")

@@ -71,7 +71,7 @@ refit <- function(fit, ...) {
   settings <- fit$settings
   args <- utils::modifyList(
     list(field = fit$data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
-         warmup = settings$warmup, seed = settings$seed,
+         warmup = settings$warmup, seed = settings$seed, control = settings$control,
          structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
          minor_modes = settings$minor_modes %||% "keep",
          covariates = fit$data$covariates),

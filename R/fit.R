@@ -13,14 +13,18 @@
 #' @param sim The simulation data frame when `field` is a data frame.
 #' @param priors A [koh_priors()] object.
 #' @param chains,iter Number of Markov chains and iterations per chain
-#'   (including warm-up).
+#'   (including warm-up). By default 4000 iterations for a joint fit and
+#'   2000 for a modular one (see `control`).
 #' @param warmup Warm-up iterations per chain; defaults to half of `iter`.
 #' @param seed Random seed; by default one is drawn and stored in the result
 #'   so the fit can be repeated.
 #' @param cores Number of cores to run chains in parallel on.
-#' @param control Sampler control passed to [rstan::sampling()]. The default
-#'   `adapt_delta = 0.9` (Stan's is 0.8) takes smaller steps, which the
-#'   curved posteriors of GP hyperparameters need to avoid divergences.
+#' @param control Sampler control passed to [rstan::sampling()], a list.
+#'   By default `adapt_delta = 0.99` for a joint fit and `0.9` for a
+#'   modular one (Stan's is 0.8): smaller steps, which the curved posteriors
+#'   of GP hyperparameters need to avoid divergences. Measured on 10
+#'   synthetic problems of 12 months x 10 runs, 4000 iterations at 0.99
+#'   converged in 8 against 3 with 2000 at 0.9 (`bench/RESULTS.md`).
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
 #'   paper's Appendix D; about twice as slow). Read them with
@@ -79,9 +83,9 @@
 #' fit
 #' }
 calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
-                      iter = 2000L, warmup = floor(iter / 2), seed = NULL,
+                      iter = NULL, warmup = floor(iter / 2), seed = NULL,
                       cores = getOption("mc.cores", 1L),
-                      control = list(adapt_delta = 0.9), predict_at = NULL,
+                      control = NULL, predict_at = NULL,
                       structure = c("auto", "grid", "dense"), covariates = NULL,
                       modular = "auto", minor_modes = c("drop", "keep"),
                       progress = getOption("bayesbem.progress", TRUE), ...) {
@@ -94,6 +98,11 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   }
   check_dots_in(list(...), sampling_arguments(), "rstan::sampling()")
   check_priors(priors)
+  structure <- choose_structure(data, match_choice(structure), predict_at)
+  modular <- choose_modular(modular, data, structure)
+  defaults <- default_sampling(modular)
+  iter <- iter %||% defaults$iter
+  control <- control %||% defaults$control
   check_count(chains)
   check_count(iter)
   check_count(cores)
@@ -103,13 +112,11 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   }
   seed <- seed %||% sample.int(.Machine$integer.max, 1L)
   check_count(seed)
-  structure <- choose_structure(data, match_choice(structure), predict_at)
   check_bool(progress)
   if (!is.list(control)) {
     abort_bayesbem("{.arg control} must be a list such as {.code list(adapt_delta = 0.95)}, not {describe_value(control)}.",
                    "argument")
   }
-  modular <- choose_modular(modular, data, structure)
   minor_modes <- match_choice(minor_modes)
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
@@ -128,7 +135,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label), sampler))
   fit <- new_koh_fit(stanfit, data = data, priors = priors,
                      settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
-                                     structure = structure, modular = modular,
+                                     control = control, structure = structure, modular = modular,
                                      minor_modes = minor_modes,
                                      dropped = dropped_chains(stanfit, emulator)),
                      predict_at = if (!is.null(predict_at)) predict_at[data$names$x],
@@ -157,6 +164,19 @@ inform_dropped <- function(dropped) {
                       i = "Keep every chain with {.code minor_modes = \"keep\"}."),
                     class = "bayesbem_message_minor_modes")
   }
+}
+
+# The iterations and sampler control of a fit whose caller gives none,
+# chosen by measurement (bench/RESULTS.md, reliability): a joint fit's
+# emulator length scales mix slowly and diverge with few runs, which 4000
+# iterations at adapt_delta 0.99 cure in most problems (12 months x 10 runs:
+# 8 of 10 converged against 3 of 10 with 2000 at 0.9); the modular stage 2
+# converged with 2000 at 0.9, and costs far more per iteration.
+default_sampling <- function(modular) {
+  if (modular) {
+    return(list(iter = 2000L, control = list(adapt_delta = 0.9)))
+  }
+  list(iter = 4000L, control = list(adapt_delta = 0.99))
 }
 
 # modular = "auto": two stages for more than `max_joint` field rows on a grid

@@ -7,7 +7,7 @@ test_that("chains run one per process give rstan's own multi-chain draws", {
                     seed = 5, refresh = 0, control = list(adapt_delta = 0.9), cores = 1)
   )
   fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = 5, cores = 2,
-                                    minor_modes = "keep"),
+                                    control = list(adapt_delta = 0.9), minor_modes = "keep"),
                           classes = "bayesbem_warning_convergence")
   expect_equal(as.array(fit$stanfit), as.array(reference))
   # the chains' draws as minor_mode_chains() reads them
