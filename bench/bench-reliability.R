@@ -13,8 +13,8 @@
 # Reported per size: share converged (max R-hat < 1.01 over every
 # parameter, no divergent transition, bulk and tail ESS >= 400), coverage of
 # the truth by the 90 % intervals of each calibration parameter, median wall
-# time, the worst R-hat's variable, and the parameters put on a log or
-# reciprocal scale.
+# time, the worst R-hat's variable, the mean leapfrog steps per iteration,
+# and the parameters put on a log or reciprocal scale.
 # Usage, from the package root, with bayesbem installed:
 #   [BENCH_CALIBRATE='list(...)'] Rscript bench/bench-reliability.R \
 #     [sizes as n:mt:problems, comma-separated; default 12:10:10,12:30:10,36:30:10,120:30:3,365:30:3]
@@ -51,6 +51,9 @@ one_problem <- function(n, mt, k) {
              max_rhat = max(conv$rhat), worst = conv$variable[worst],
              min_ess = min(conv$ess_bulk, conv$ess_tail), divergent = sampler$divergent,
              treedepth_hits = sampler$treedepth_hits,
+             # mean leapfrog steps per sampling iteration (stage 2 of a modular fit)
+             leapfrog = round(mean(vapply(rstan::get_sampler_params(fit$stanfit, inc_warmup = FALSE),
+                                          function(s) mean(s[, "n_leapfrog__"]), numeric(1))), 1),
              dropped = paste(unlist(fit$settings$dropped), collapse = " "),
              # parameters koh_data(scales = "auto") took off the identity
              scales = paste(names(Filter(function(s) s != "identity", fit$data$scaling$t_scale)),

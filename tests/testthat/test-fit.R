@@ -235,6 +235,17 @@ test_that("summaries have the parameters as row names and print without scientif
   expect_equal(bayesbem:::sd_decimals(c(1.2, 0.05, 0.00023, 400, 0, NA)), c(1, 3, 5, 0, 3, 3))
 })
 
+# bench/RESULTS.md: longer, more careful chains helped joint fits of 12
+# months and held one of 36 months in an emulator mode
+test_that("default sampling depends on the fit and the data size", {
+  long <- list(iter = 4000L, control = list(adapt_delta = 0.99))
+  short <- list(iter = 2000L, control = list(adapt_delta = 0.9))
+  expect_equal(bayesbem:::default_sampling(FALSE, 12), long)
+  expect_equal(bayesbem:::default_sampling(FALSE, 35), long)
+  expect_equal(bayesbem:::default_sampling(FALSE, 36), short)
+  expect_equal(bayesbem:::default_sampling(TRUE, 120), short)
+})
+
 test_that("three years of bills with 30 runs converge with the defaults (a seeded problem)", {
   skip_on_cran()
   # problem 2 of bench/bench-reliability.R at n = 36, mt = 30; not every
