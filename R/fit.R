@@ -84,7 +84,7 @@
 #' fit
 #' }
 calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
-                      iter = NULL, warmup = floor(iter / 2), seed = NULL,
+                      iter = NULL, warmup = NULL, seed = NULL,
                       cores = getOption("mc.cores", 1L),
                       control = NULL, predict_at = NULL,
                       structure = c("auto", "grid", "dense"), covariates = NULL,
@@ -107,6 +107,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   check_count(chains)
   check_count(iter)
   check_count(cores)
+  warmup <- warmup %||% floor(iter / 2)
   if (!isTRUE(checkmate::check_count(warmup)) || warmup >= iter) {
     abort_bayesbem("{.arg warmup} must be a whole number from 0 to {.arg iter} - 1 ({iter - 1}), not {describe_value(warmup)}.",
                    "argument")
