@@ -1,7 +1,7 @@
 // normal_two_kernels_lpdf(), declared in inst/stan/include/koh_functions.stan
 // and defined here with its analytic gradient. It is the cost of every
 // gradient of the grid and modular programs at large n: Stan's reverse mode
-// through a 365 x 365 Cholesky factor takes ~46 ms, this ~10 ms
+// through a 365 x 365 Cholesky factor takes ~46 ms, this ~5 ms
 // (bench/bench-gradient.R).
 //
 // This file is included by stan_meta_header.hpp inside each model's
@@ -22,12 +22,47 @@ inline void add_operand(std::vector<stan::math::var>& ops, std::vector<double>& 
 inline void add_operand(std::vector<stan::math::var>&, std::vector<double>&, double,
                         double) {}
 
-template <typename T, int R, int C>
+// g may be an expression: it is evaluated only for operands that are var.
+template <int R, int C, typename G>
 inline void add_operands(std::vector<stan::math::var>& ops, std::vector<double>& grads,
-                         const Eigen::Matrix<T, R, C>& x, const Eigen::MatrixXd& g) {
+                         const Eigen::Matrix<stan::math::var, R, C>& x, const G& g) {
+  const Eigen::MatrixXd gv = g;
   for (Eigen::Index i = 0; i < x.size(); ++i) {
-    add_operand(ops, grads, x(i), g(i));
+    add_operand(ops, grads, x(i), gv(i));
   }
+}
+template <int R, int C, typename G>
+inline void add_operands(std::vector<stan::math::var>&, std::vector<double>&,
+                         const Eigen::Matrix<double, R, C>&, const G&) {}
+
+/* Sigma^-1 from the lower Cholesky factor L of Sigma (only L's lower
+ * triangle is read; LAPACK's dpotri by other means). L^-1 is lower
+ * triangular, so each block of its columns is solved on the trailing rows
+ * only, and Sigma^-1 = L^-T L^-1 is formed by blocks of its lower triangle,
+ *   (L^-T L^-1)[j:, J] = L^-1[j:, j:]' L^-1[j:, J],
+ * then mirrored: about 2 n^3 / 3 flops against 2 n^3 for LLT::solve() of
+ * the identity (stage 2 at n = 365: 5.4 ms per gradient against 9.6 ms,
+ * bench/bench-gradient.R). */
+inline Eigen::MatrixXd inverse_from_cholesky(const Eigen::MatrixXd& L) {
+  const Eigen::Index n = L.rows();
+  const Eigen::Index block = 32;
+  Eigen::MatrixXd L_inv = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index j = 0; j < n; j += block) {
+    const Eigen::Index w = std::min(block, n - j);
+    const Eigen::Index m = n - j;
+    L_inv.block(j, j, w, w).setIdentity();
+    L.block(j, j, m, m).triangularView<Eigen::Lower>().solveInPlace(L_inv.block(j, j, m, w));
+  }
+  Eigen::MatrixXd inv(n, n);
+  for (Eigen::Index j = 0; j < n; j += block) {
+    const Eigen::Index w = std::min(block, n - j);
+    const Eigen::Index m = n - j;
+    inv.block(j, j, m, w).noalias() =
+        L_inv.block(j, j, m, m).transpose().triangularView<Eigen::Upper>() *
+        L_inv.block(j, j, m, w);
+  }
+  inv.triangularView<Eigen::StrictlyUpper>() = inv.transpose();
+  return inv;
 }
 
 // The log density as a double, or as a var holding its partial derivatives.
@@ -46,8 +81,9 @@ inline stan::math::var finish(double lp, const std::vector<stan::math::var>& ops
  * squared-exponential kernel (1 / lambda) exp(-sum_k beta[k] (u_ik - u_jk)^2)
  * (method Eq 2). One Cholesky factor of Sigma gives the value,
  *   -0.5 (n log(2 pi) + log|Sigma| + r' alpha),  alpha = Sigma^-1 r,
- * and Sigma^-1 gives every partial derivative (Rasmussen & Williams 2006,
- * Eq 5.9): d/dtheta = tr(W dSigma/dtheta) with W = (alpha alpha' - Sigma^-1) / 2,
+ * and Sigma^-1 (inverse_from_cholesky()) gives every partial derivative
+ * (Rasmussen & Williams 2006, Eq 5.9): d/dtheta = tr(W dSigma/dtheta) with
+ * W = (alpha alpha' - Sigma^-1) / 2,
  * so d/dr = -alpha, d/dK = a W, d/da = sum(W .* K), d/dbeta[k] =
  * sum(W .* S .* nd2[, k]), d/dlambda = -sum(W .* S) / lambda, d/dd = tr(W). */
 template <typename TR, typename TK, typename TA, typename TD2, typename TB, typename TL,
@@ -57,10 +93,12 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
     const TL& lambda, const TJ& d) {
   using stan::math::value_of;
   typedef typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type result_t;
-  const Eigen::Matrix<typename TR::Scalar, Eigen::Dynamic, 1> r = r_in;
-  const Eigen::Matrix<typename TK::Scalar, Eigen::Dynamic, Eigen::Dynamic> K = K_in;
-  const Eigen::Matrix<typename TB::Scalar, Eigen::Dynamic, 1> beta = beta_in;
-  const Eigen::MatrixXd nd2 = value_of(nd2_in);
+  // references: no copy when an argument already has the type (stanc2), a
+  // temporary kept alive by the reference when it is an expression (stanc3)
+  const Eigen::Matrix<typename TR::Scalar, Eigen::Dynamic, 1>& r = r_in;
+  const Eigen::Matrix<typename TK::Scalar, Eigen::Dynamic, Eigen::Dynamic>& K = K_in;
+  const Eigen::Matrix<typename TB::Scalar, Eigen::Dynamic, 1>& beta = beta_in;
+  const Eigen::MatrixXd& nd2 = value_of(nd2_in);
   const Eigen::Index n = r.size();
   const Eigen::Index P = beta.size();
   stan::math::check_square("normal_two_kernels_lpdf", "K", K);
@@ -70,7 +108,7 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
   stan::math::check_size_match("normal_two_kernels_lpdf", "columns of nd2", nd2.cols(),
                                "size of beta plus 1", P + 1);
   const Eigen::VectorXd rv = value_of(r);
-  const Eigen::MatrixXd Kv = value_of(K);
+  const Eigen::MatrixXd& Kv = value_of(K);
   const double av = value_of(a);
   const double lambdav = value_of(lambda);
   const Eigen::VectorXd log_s = nd2.leftCols(P) * value_of(beta);
@@ -90,7 +128,7 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
   const double lp = -0.5 * (n * std::log(2 * stan::math::pi()) + log_det + rv.dot(alpha));
 
   const Eigen::MatrixXd W =
-      0.5 * (alpha * alpha.transpose() - llt.solve(Eigen::MatrixXd::Identity(n, n)));
+      0.5 * (alpha * alpha.transpose() - inverse_from_cholesky(llt.matrixLLT()));
   const Eigen::MatrixXd WS = W.cwiseProduct(S);
   const Eigen::VectorXd d_beta =
       nd2.leftCols(P).transpose() * Eigen::Map<const Eigen::VectorXd>(WS.data(), n * n);

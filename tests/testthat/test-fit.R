@@ -93,13 +93,9 @@ test_that("the grid program's log density equals the dense program's", {
   }
 })
 
-# The field density of the grid and modular programs has a hand-written
-# gradient (inst/include/normal_two_kernels.hpp); Stan's gradient must equal
-# central finite differences of Stan's own log density.
-test_that("the grid and modular gradients equal finite differences", {
-  skip_on_cran()
-  withr::local_seed(12)
-  d <- random_grid_data(extra = 2)
+# Stan's gradient of both field-density programs against central finite
+# differences of Stan's own log density, at random parameters.
+expect_gradient_matches <- function(d) {
   priors <- koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)), nugget = 1e-4)
   grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
   pars <- random_koh_pars(bayesbem:::koh_stan_data(d, priors, structure = "dense"))
@@ -119,6 +115,16 @@ test_that("the grid and modular gradients equal finite differences", {
     grad <- rstan::grad_log_prob(model, upars)
     expect_equal(as.vector(grad), numeric_grad, tolerance = 1e-6)
   }
+}
+
+# The field density of the grid and modular programs has a hand-written
+# gradient (inst/include/normal_two_kernels.hpp); Stan's gradient must equal
+# central finite differences of Stan's own log density. n = 70 spans three
+# blocks of its inverse of Sigma (inverse_from_cholesky(), blocks of 32).
+test_that("the grid and modular gradients equal finite differences", {
+  skip_on_cran()
+  withr::local_seed(12)
+  for (n in c(7, 70)) expect_gradient_matches(random_grid_data(n = n, extra = 2))
 })
 
 test_that("a failing Cholesky factor is named, with the fix", {
