@@ -65,7 +65,10 @@
 #'   modular fit, provided two chains remain. Chains in modes of similar
 #'   mass are always kept, and
 #'   [check_convergence()] reports that they disagree. `fit$settings$dropped`
-#'   lists the dropped chains.
+#'   lists the dropped chains. Modes of the calibration parameters can be
+#'   the emulator's error rather than the data's (a year of daily data,
+#'   `bench/RESULTS.md`), so the message of a calibration drop points to
+#'   [validate_emulator()].
 #' @param progress Show a progress bar over all chains while sampling
 #'   (Stan's own per-chain iteration lines are not printed). The default is
 #'   the option `bayesbem.progress`, `TRUE` unless set.
@@ -162,8 +165,14 @@ inform_dropped <- function(dropped) {
     chains <- sprintf("%s%s %s", if (stage == "emulator") "Stage-1 c" else "C",
                       if (length(k) > 1L) "hains" else "hain", paste(k, collapse = " and "))
     verb <- if (length(k) > 1L) "were" else "was"
+    # measured (bench/RESULTS.md, 365 days, problem 3): both modes of the
+    # calibration were the plug-in emulator's error, and validate_emulator()
+    # was what told
+    emulator_hint <- if (stage == "fit") {
+      c(i = "Modes of the calibration parameters can be the emulator's error: check it where the posterior lies with {.fn validate_emulator}.")
+    }
     cli::cli_inform(c("!" = "{chains} {verb} stuck in a minor mode (under e^-10 of the main mode's posterior mass) and dropped.",
-                      i = "Keep every chain with {.code minor_modes = \"keep\"}."),
+                      i = "Keep every chain with {.code minor_modes = \"keep\"}.", emulator_hint),
                     class = "bayesbem_message_minor_modes")
   }
 }
