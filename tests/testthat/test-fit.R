@@ -93,8 +93,7 @@ test_that("the grid program's log density equals the dense program's", {
   }
 })
 
-# Stan's gradient of both field-density programs against central finite
-# differences of Stan's own log density, at random parameters.
+# Checks both programs at random parameters of the data d (test below).
 expect_gradient_matches <- function(d) {
   priors <- koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)), nugget = 1e-4)
   grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
