@@ -15,11 +15,16 @@
 #' design_lhs(bem_parameters()[c(3, 12, 14), ], n = 10, seed = 1)
 design_lhs <- function(params, n, seed = NULL) {
   params <- check_parameter_table(params)
-  check_count(n)
-  if (n < 2L) {
-    abort_bayesbem("{.arg n} must be at least 2 runs.", "argument")
-  }
+  check_run_count(n)
   unit <- with_seed(seed, lhs::maximinLHS(n, nrow(params)))
   design <- sweep(sweep(unit, 2, params$max - params$min, "*"), 2, params$min, "+")
   stats::setNames(as.data.frame(design), params$parameter)
+}
+
+# A design needs two runs at least: a Latin hypercube of one is a point.
+check_run_count <- function(n, arg = rlang::caller_arg(n), call = rlang::caller_env()) {
+  check_count(n, arg = arg, call = call)
+  if (n < 2L) {
+    abort_bayesbem("{.arg {arg}} must be at least 2 runs, not {n}.", "argument", call = call)
+  }
 }

@@ -17,6 +17,8 @@
 #' to each other: posterior draws farther from the runs than the runs are
 #' from each other mean the design missed the posterior's region (add runs
 #' there); otherwise the runs are too few for the emulator (add runs).
+#' Either way [design_posterior()] lays new runs over the posterior's
+#' intervals; bind their outputs to the runs and calibrate again.
 #'
 #' `posterior_simulate()` returns the real simulator's outputs at the
 #' posterior draws: the calibrated model's predictions without the emulator
@@ -189,9 +191,9 @@ emulator_verdict <- function(table, fit, runs, level) {
             100 * coverage, 100 * level, format(signif(rmse, 3)), format(signif(noise_sd, 3)))
   } else {
     why <- if (distance > 1) {
-      sprintf("the posterior lies away from the runs (%.1f times farther from the nearest run than the runs are from each other): add runs in the posterior's region, e.g. a Latin hypercube over its 90%% intervals.", distance)
+      sprintf("the posterior lies away from the runs (%.1f times farther from the nearest run than the runs are from each other): add runs in the posterior's region, e.g. with design_posterior(fit, n = 10), and calibrate again.", distance)
     } else {
-      "the runs are too few for the emulator where the posterior lies: add runs."
+      "the runs are too few for the emulator where the posterior lies: add runs there, e.g. with design_posterior(fit, n = 10), and calibrate again."
     }
     sprintf("The emulator cannot be trusted for this posterior: %.0f%% of the simulator's outputs lie in its %.0f%% intervals (RMSE %s, noise sd %s); %s",
             100 * coverage, 100 * level, format(signif(rmse, 3)), format(signif(noise_sd, 3)), why)

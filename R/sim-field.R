@@ -67,7 +67,8 @@ simulate_field <- function(simulator, truth, covariates = NULL, effect = NULL, n
 # 2013, evenly spaced, above), the paper's three calibration parameters with
 # the truth drawn within the middle 80 % of their ranges, noise 2 % of the
 # mean output, and a maximin LHS design of mt runs at every period; `k`
-# seeds the draw. Returns the field table, the runs and the truth.
+# seeds the draw. Returns the field table, the runs, the truth and the
+# simulator (for runs added later, e.g. by design_posterior()).
 synthetic_problem <- function(n, mt, k) {
   sim <- bem_simulator(synthetic_weather(n))
   names <- c("fan_total_efficiency", "equipment_power_density", "infiltration_per_exterior_area")
@@ -79,7 +80,7 @@ synthetic_problem <- function(n, mt, k) {
   clean <- simulate_field(sim, truth)
   list(field = simulate_field(sim, truth, noise_sd = 0.02 * mean(clean$y), seed = 2000 + k),
        runs = simulate_design(sim, design_lhs(params, n = mt, seed = 3000 + k)),
-       truth = truth)
+       truth = truth, simulator = sim)
 }
 
 synthetic_weather <- function(n) {

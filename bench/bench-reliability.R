@@ -15,8 +15,12 @@
 # the truth by the 90 % intervals of each calibration parameter, median wall
 # time, the worst R-hat's variable, the mean leapfrog steps per iteration,
 # and the parameters put on a log or reciprocal scale.
+# With BENCH_REFINE=r (r > 0) each problem is then refined once, as the
+# verdict of validate_emulator() advises: r runs from design_posterior() on
+# the first fit, added to the mt runs, and a second fit, reported as size
+# (n, mt + r) with its wall time (both fits and the runs).
 # Usage, from the package root, with bayesbem installed:
-#   [BENCH_CALIBRATE='list(...)'] Rscript bench/bench-reliability.R \
+#   [BENCH_CALIBRATE='list(...)'] [BENCH_REFINE=r] Rscript bench/bench-reliability.R \
 #     [sizes as n:mt:problems, comma-separated; default 12:10:10,12:30:10,36:30:10,120:30:3,365:30:3]
 # `problems` is a count (problems 1 to k) or a range k1-k2 (e.g. 365:30:2-3).
 suppressPackageStartupMessages(library(bayesbem))
@@ -30,13 +34,29 @@ sizes <- do.call(rbind, lapply(strsplit(strsplit(spec, ",")[[1]], ":"), function
 }))
 extra <- eval(parse(text = Sys.getenv("BENCH_CALIBRATE", "list()")))
 
+refine <- as.integer(Sys.getenv("BENCH_REFINE", "0"))
+
+fit_problem <- function(problem, runs, k) {
+  suppressWarnings(do.call(calibrate, c(list(problem$field, runs, seed = 4000 + k), extra)),
+                   classes = "bayesbem_warning_convergence")
+}
+
+# The default fit's row and, with BENCH_REFINE, the refined fit's.
 one_problem <- function(n, mt, k) {
   problem <- bayesbem:::synthetic_problem(n, mt, k)
-  truth <- problem$truth
-  wall <- system.time(fit <- suppressWarnings(
-    do.call(calibrate, c(list(problem$field, problem$runs, seed = 4000 + k), extra)),
-    classes = "bayesbem_warning_convergence"
-  ))[["elapsed"]]
+  wall <- system.time(fit <- fit_problem(problem, problem$runs, k))[["elapsed"]]
+  first <- evaluate(fit, problem$truth, n, mt, k, wall)
+  if (refine == 0L) {
+    return(first)
+  }
+  wall2 <- system.time({
+    added <- simulate_design(problem$simulator, design_posterior(fit, refine, seed = 5000 + k))
+    refit <- fit_problem(problem, rbind(problem$runs, added), k)
+  })[["elapsed"]]
+  rbind(first, evaluate(refit, problem$truth, n, mt + refine, k, wall + wall2))
+}
+
+evaluate <- function(fit, truth, n, mt, k, wall) {
   conv <- check_convergence(fit, warn = FALSE)
   sampler <- attr(conv, "sampler")
   draws <- bayesbem:::parameter_draws(fit)
@@ -72,7 +92,7 @@ for (i in seq_len(nrow(sizes))) {
   for (k in seq(s$first, s$last)) {
     r <- one_problem(s$n, s$mt, k)
     print(r, row.names = FALSE)
-    rows[[length(rows) + 1L]] <- r
+    rows <- c(rows, split(r, seq_len(nrow(r))))
   }
 }
 all <- do.call(rbind, rows)

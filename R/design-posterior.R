@@ -1,0 +1,48 @@
+#' Runs where the posterior lies: a design to refine the emulator
+#'
+#' The next step when [validate_emulator()] says the emulator cannot be
+#' trusted for a posterior. `design_posterior()` lays a maximin Latin
+#' hypercube (package lhs) over the central `level` interval of each
+#' calibration parameter's posterior, so the simulator runs where the
+#' calibration needs the emulator to be right. The hypercube is laid on the
+#' scale the emulator works on (see `scales` in [koh_data()]: a parameter
+#' on the log scale is spread evenly in its logarithm) and returned in
+#' physical units. Run it with [simulate_design()], bind the result to the
+#' earlier runs and calibrate again.
+#'
+#' Why: a Gaussian-process emulator is only as good as the runs near the
+#' posterior. With many field rows (a year of daily data) the posterior is
+#' narrow, and an emulator error smaller than its own stated uncertainty
+#' elsewhere can move it off the truth; runs inside its region remove that
+#' error where it matters (`bench/RESULTS.md`).
+#'
+#' @param fit A `koh_fit`.
+#' @param n Number of runs.
+#' @param level Probability mass of the central posterior interval each
+#'   parameter's runs span.
+#' @param seed Random seed of the hypercube.
+#' @param ... Unused.
+#' @return A data frame with `n` rows and one column per calibration
+#'   parameter, in physical units: the `design` of [simulate_design()].
+#' @family design
+#' @export
+#' @examples
+#' design_posterior(seb_fit, n = 5, seed = 1)
+#' \donttest{
+#' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+#' runs <- simulate_design(sim, design_posterior(seb_fit, n = 5, seed = 1))
+#' head(runs)
+#' }
+design_posterior <- function(fit, n, level = 0.9, seed = NULL, ...) {
+  rlang::check_dots_empty()
+  check_koh_fit(fit)
+  check_run_count(n)
+  check_probability(level)
+  # tf is on the emulator's [0, 1] scale, so quantiles and strata are too
+  tf <- as.matrix(fit$stanfit, pars = "tf")
+  lower <- apply(tf, 2, stats::quantile, (1 - level) / 2)
+  upper <- apply(tf, 2, stats::quantile, (1 + level) / 2)
+  unit <- with_seed(seed, lhs::maximinLHS(n, ncol(tf)))
+  design <- unscale_t(unscale_columns(unit, lower, upper), fit$data$scaling)
+  stats::setNames(as.data.frame(design), fit$data$names$t)
+}
