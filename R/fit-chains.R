@@ -40,8 +40,19 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
     })
   if (progress) cli::cli_progress_done(id = bar)
   fits <- collect_chains(results, on_failure, call)
-  dropped <- if (minor_modes == "drop") minor_mode_chains(chain_draws(fits)) else integer(0)
-  structure(rstan::sflist2stanfit(fits[setdiff(seq_along(fits), dropped)]), dropped = dropped)
+  dropped <- integer(0)
+  dropped_tf <- NULL
+  if (minor_modes == "drop") {
+    draws <- chain_draws(fits)
+    dropped <- minor_mode_chains(draws)
+    # where the dropped chains put the calibration parameters, for the message
+    tf <- grep("^tf\\[", dimnames(draws)[[3]], value = TRUE)
+    if (length(dropped) > 0L && length(tf) > 0L) {
+      dropped_tf <- matrix(draws[, dropped, tf], ncol = length(tf))
+    }
+  }
+  structure(rstan::sflist2stanfit(fits[setdiff(seq_along(fits), dropped)]), dropped = dropped,
+            dropped_tf = dropped_tf)
 }
 
 # The draws of each chain's stanfit, iterations x chains x variables.

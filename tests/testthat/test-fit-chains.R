@@ -62,9 +62,30 @@ test_that("dropped chains are named in the message and the summary", {
   expect_message(bayesbem:::inform_dropped(list(emulator = 2L, fit = c(1L, 4L))),
                  class = "bayesbem_message_minor_modes")
   expect_snapshot(bayesbem:::inform_dropped(list(emulator = 2L, fit = c(1L, 4L))))
+  moved <- "fan_total_efficiency: 0.45 in the dropped chains, 0.61 to 0.86 (90%) in the kept ones."
+  expect_snapshot(bayesbem:::inform_dropped(list(fit = 3L), moved))
   expect_equal(bayesbem:::dropped_label(list(emulator = 2L, fit = 3L)),
                "; dropped (minor mode): stage-1 chain 2; chain 3")
   expect_equal(bayesbem:::dropped_label(list()), "")
+})
+
+test_that("the calibration parameters a dropped chain put elsewhere are named", {
+  tf <- as.matrix(seb_fit$stanfit, pars = "tf")
+  physical <- bayesbem:::parameter_draws(seb_fit)
+  # the dropped chains at the kept medians, but the first parameter at the
+  # bottom of its range, outside the kept 90 % interval
+  at <- rep(apply(tf, 2, median), each = 10)
+  dropped <- matrix(at, 10)
+  dropped[, 1] <- 0.001
+  moved <- bayesbem:::moved_parameters(seb_fit, dropped)
+  expect_length(moved, 1)
+  name <- colnames(physical)[1]
+  expect_match(moved, paste0("^", name, ": "))
+  low <- bayesbem:::unscale_t1(0.001, seb_fit$data$scaling, 1)
+  expect_lt(low, quantile(physical[, 1], 0.05))
+  expect_match(moved, format(signif(low, 3)), fixed = TRUE)
+  expect_identical(bayesbem:::moved_parameters(seb_fit, matrix(at, 10)), character())
+  expect_identical(bayesbem:::moved_parameters(seb_fit, NULL), character())
 })
 
 test_that("rstan's diagnostic warnings are told by the function that raised them", {
