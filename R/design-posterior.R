@@ -12,9 +12,11 @@
 #'
 #' Why: a Gaussian-process emulator is only as good as the runs near the
 #' posterior. With many field rows (a year of daily data) the posterior is
-#' narrow, and an emulator error smaller than its own stated uncertainty
-#' elsewhere can move it off the truth; runs inside its region remove that
-#' error where it matters (`bench/RESULTS.md`).
+#' narrow, and the emulator's error between the runs can hold it off the
+#' truth, e.g. at one end of a ridge of parameters that trade off. Runs over
+#' its region move it: in the benchmark (`bench/RESULTS.md`) one round of
+#' ten runs restored coverage at 120 days, two rounds at 365 days. Repeat
+#' while the posterior still moves.
 #'
 #' @param fit A `koh_fit`.
 #' @param n Number of runs.
