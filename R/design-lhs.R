@@ -16,9 +16,14 @@
 design_lhs <- function(params, n, seed = NULL) {
   params <- check_parameter_table(params)
   check_run_count(n)
-  unit <- with_seed(seed, lhs::maximinLHS(n, nrow(params)))
-  design <- sweep(sweep(unit, 2, params$max - params$min, "*"), 2, params$min, "+")
+  design <- maximin_box(n, params$min, params$max, seed)
   stats::setNames(as.data.frame(design), params$parameter)
+}
+
+# A maximin Latin hypercube of n points in the box [lower, upper] (one
+# column per bound), the design of design_lhs() and design_posterior().
+maximin_box <- function(n, lower, upper, seed) {
+  unscale_columns(with_seed(seed, lhs::maximinLHS(n, length(lower))), lower, upper)
 }
 
 # A design needs two runs at least: a Latin hypercube of one is a point.

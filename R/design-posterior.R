@@ -42,9 +42,7 @@ design_posterior <- function(fit, n, level = 0.9, seed = NULL, ...) {
   check_probability(level)
   # tf is on the emulator's [0, 1] scale, so quantiles and strata are too
   tf <- as.matrix(fit$stanfit, pars = "tf")
-  lower <- apply(tf, 2, stats::quantile, (1 - level) / 2)
-  upper <- apply(tf, 2, stats::quantile, (1 + level) / 2)
-  unit <- with_seed(seed, lhs::maximinLHS(n, ncol(tf)))
-  design <- unscale_t(unscale_columns(unit, lower, upper), fit$data$scaling)
+  ends <- apply(tf, 2, stats::quantile, c(1 - level, 1 + level) / 2)
+  design <- unscale_t(maximin_box(n, ends[1, ], ends[2, ], seed), fit$data$scaling)
   stats::setNames(as.data.frame(design), fit$data$names$t)
 }

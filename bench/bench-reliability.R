@@ -92,7 +92,7 @@ for (i in seq_len(nrow(sizes))) {
   for (k in seq(s$first, s$last)) {
     r <- one_problem(s$n, s$mt, k)
     print(r, row.names = FALSE)
-    rows <- c(rows, split(r, seq_len(nrow(r))))
+    rows[[length(rows) + 1L]] <- r
   }
 }
 all <- do.call(rbind, rows)
