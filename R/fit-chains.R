@@ -14,45 +14,58 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
                           args, progress, on_failure, minor_modes = "keep",
                           call = rlang::caller_env()) {
   args$refresh <- args$refresh %||% max(1L, iter %/% 50L)
-  run <- function(k, log) {
-    # a list of starting values has one element per chain
-    if (is.list(args$init)) args$init <- args$init[k]
-    run_chain(c(list(model, data = stan_data, chains = 1L, chain_id = k, iter = iter,
-                     warmup = warmup, seed = seed, cores = 1L, control = control), args), log)
-  }
-  logs <- tempfile(sprintf("bayesbem-chain%d-", seq_len(chains)), fileext = ".txt")
-  on.exit(unlink(logs), add = TRUE)
-  bar <- if (progress) {
-    cli::cli_progress_bar(label, total = chains * iter, clear = FALSE, .envir = environment())
-  }
-  # cli closes a bar that reaches its total, so it gets there only when done
-  tick <- function() {
-    if (progress) {
-      cli::cli_progress_update(id = bar, set = min(sum(chain_progress(logs, iter)),
-                                                   chains * iter - 1))
+  # Runs the chains `ids`, each from its element of `init` when that is a list
+  # (one element per chain), behind one progress bar; their stanfits.
+  run_chains <- function(ids, label, init = args$init) {
+    run <- function(j, log) {
+      if (is.list(init)) args$init <- init[j]
+      run_chain(c(list(model, data = stan_data, chains = 1L, chain_id = ids[j], iter = iter,
+                       warmup = warmup, seed = seed, cores = 1L, control = control), args), log)
     }
+    n <- length(ids)
+    logs <- tempfile(sprintf("bayesbem-chain%d-", ids), fileext = ".txt")
+    on.exit(unlink(logs), add = TRUE)
+    bar <- if (progress) {
+      cli::cli_progress_bar(label, total = n * iter, clear = FALSE, .envir = environment())
+    }
+    # cli closes a bar that reaches its total, so it gets there only when done
+    tick <- function() {
+      if (progress) {
+        cli::cli_progress_update(id = bar, set = min(sum(chain_progress(logs, iter)), n * iter - 1))
+      }
+    }
+    results <- if (can_fork()) fork_chains(run, n, cores, logs, tick) else
+      lapply(seq_len(n), function(j) {
+        result <- try(run(j, logs[j]), silent = TRUE)
+        tick()
+        result
+      })
+    if (progress) cli::cli_progress_done(id = bar)
+    collect_chains(results, ids, on_failure, call)
   }
-  results <- if (can_fork()) fork_chains(run, chains, cores, logs, tick) else
-    lapply(seq_len(chains), function(k) {
-      result <- try(run(k, logs[k]), silent = TRUE)
-      tick()
-      result
-    })
-  if (progress) cli::cli_progress_done(id = bar)
-  fits <- collect_chains(results, on_failure, call)
-  dropped <- integer(0)
-  dropped_tf <- NULL
+  fits <- run_chains(seq_len(chains), label)
+  modes <- list(drop = integer(0), restart = integer(0))
+  minor_tf <- NULL
   if (minor_modes == "drop") {
     draws <- chain_draws(fits)
-    dropped <- minor_mode_chains(draws)
-    # where the dropped chains put the calibration parameters, for the message
+    modes <- minor_mode_chains(draws, chain_divergences(fits))
+    minor <- c(modes$drop, modes$restart)
+    # where the minor mode put the calibration parameters, for the message
     tf <- grep("^tf\\[", dimnames(draws)[[3]], value = TRUE)
-    if (length(dropped) > 0L && length(tf) > 0L) {
-      dropped_tf <- matrix(draws[, dropped, tf], ncol = length(tf))
+    if (length(minor) > 0L && length(tf) > 0L) {
+      minor_tf <- matrix(draws[, minor, tf], ncol = length(tf))
+    }
+    if (length(modes$restart) > 0L) {
+      fits[modes$restart] <- run_chains(
+        modes$restart, sprintf("Restarting %d chains from chain %d", length(modes$restart),
+                               modes$from),
+        restart_inits(fits[[modes$from]], length(modes$restart))
+      )
     }
   }
-  structure(rstan::sflist2stanfit(fits[setdiff(seq_along(fits), dropped)]), dropped = dropped,
-            dropped_tf = dropped_tf)
+  structure(rstan::sflist2stanfit(fits[setdiff(seq_along(fits), modes$drop)]),
+            dropped = modes$drop, restarted = modes$restart, restarted_from = modes$from,
+            minor_tf = minor_tf)
 }
 
 # The draws of each chain's stanfit, iterations x chains x variables.
@@ -63,22 +76,29 @@ chain_draws <- function(fits) {
   draws
 }
 
-# The chains stuck in a minor mode, by index. Each chain's mode gets a
-# Laplace estimate of its log posterior mass from the chain's draws,
-# log m = mean(lp__) + log det(S) / 2 + (terms common to all chains), S the
-# covariance of the draws on Stan's unconstrained scale (for a Gaussian
-# mode, log m = lp(peak) + d log(2 pi) / 2 + log det(S) / 2 and
-# mean(lp__) = lp(peak) - d / 2). A chain whose mode has less than
-# exp(-gap) of the best chain's mass holds draws the posterior almost never
-# gives; R-hat would only report that the chains disagree. Chains within
-# `gap` of the best are kept even when they disagree: modes of similar mass
-# are the posterior's, and check_convergence() reports them. Nothing is
-# dropped unless two chains remain to check each other (measured: with 30
-# runs at n = 36 one chain alone once outscored three, with 36 effective
-# draws and a divergent transition).
-minor_mode_chains <- function(draws, gap = 10) {
+# The chains stuck in a minor mode and what to do with them: a list of
+# `drop` and `restart` (chain indices) and `from` (the chain to restart
+# them from). Each chain's mode gets a Laplace estimate of its log posterior
+# mass from the chain's draws, log m = mean(lp__) + log det(S) / 2 + (terms
+# common to all chains), S the covariance of the draws on Stan's
+# unconstrained scale (for a Gaussian mode, log m = lp(peak) + d log(2 pi) / 2
+# + log det(S) / 2 and mean(lp__) = lp(peak) - d / 2). A chain whose mode has
+# less than exp(-gap) of the best chain's mass holds draws the posterior
+# almost never gives; R-hat would only report that the chains disagree.
+# Chains within `gap` of the best are kept even when they disagree: modes of
+# similar mass are the posterior's, and check_convergence() reports them.
+# The minor chains are dropped when two chains remain to check each other;
+# when the best chain stands alone they are run again from its draws
+# instead, provided it had no divergent transition (`divergent`, per chain;
+# measured: with 30 runs at n = 36 one chain alone once outscored three,
+# with 36 effective draws and a divergent transition). The gap of 5 (a mode
+# under 0.7 % of the mass) is measured at 12 months (bench/RESULTS.md):
+# lone chains outscored three by 5.3 and by 30, and the three restarted from
+# them joined them (R-hat 1.53 to 1.002); chains in one mode agree within 2.
+minor_mode_chains <- function(draws, divergent = integer(dim(draws)[2]), gap = 5) {
+  none <- list(drop = integer(0), restart = integer(0), from = NULL)
   if (dim(draws)[2] < 2L) {
-    return(integer(0))
+    return(none)
   }
   log_mass <- vapply(seq_len(dim(draws)[2]), function(k) {
     u <- unconstrained_draws(draws[, k, , drop = TRUE])
@@ -88,10 +108,47 @@ minor_mode_chains <- function(draws, gap = 10) {
   }, numeric(1))
   # too few draws for a covariance: no chain is judged
   if (anyNA(log_mass) || any(!is.finite(log_mass))) {
-    return(integer(0))
+    return(none)
   }
-  minor <- which(log_mass < max(log_mass) - gap)
-  if (length(log_mass) - length(minor) < 2L) integer(0) else minor
+  best <- which.max(log_mass)
+  minor <- which(log_mass < log_mass[best] - gap)
+  if (length(minor) == 0L) {
+    return(none)
+  }
+  if (length(log_mass) - length(minor) >= 2L) {
+    return(list(drop = minor, restart = integer(0), from = NULL))
+  }
+  if (divergent[best] > 0) none else list(drop = integer(0), restart = minor, from = best)
+}
+
+# Divergent transitions after warmup, per chain.
+chain_divergences <- function(fits) {
+  vapply(fits, function(fit) {
+    sum(rstan::get_sampler_params(fit, inc_warmup = FALSE)[[1]][, "divergent__"])
+  }, numeric(1))
+}
+
+# Starting values for `n` chains from the parameters-block draws of a
+# one-chain stanfit, at iterations spread over its second half.
+restart_inits <- function(fit, n) {
+  draws <- as.array(fit)[, 1, ]
+  pars <- intersect(names(fit@par_dims), parameter_block_names())
+  rows <- round(seq(nrow(draws) / 2, nrow(draws), length.out = n))
+  lapply(rows, function(i) {
+    values <- lapply(pars, function(p) {
+      v <- unname(draws[i, grepl(sprintf("^%s(\\[|$)", p), colnames(draws))])
+      dims <- fit@par_dims[[p]]
+      if (length(dims) == 0L) v else array(v, dims)
+    })
+    stats::setNames(values, pars)
+  })
+}
+
+# The names in the parameters blocks of the package's Stan programs
+# (koh_parameters.stan, koh_emulator.stan, koh_modular.stan, koh.stan).
+parameter_block_names <- function() {
+  c("tf", "rho_eta", "rho_delta", "lambda_eta", "lambda_delta", "lambda_e", "gamma", "b",
+    "y_pred")
 }
 
 # A chain's draws of the parameters block on Stan's unconstrained scale
@@ -181,13 +238,13 @@ chain_progress <- function(logs, iter) {
   }, numeric(1), USE.NAMES = FALSE)
 }
 
-# The chains' stanfits; a chain whose process failed is an error, one
+# The stanfits of the chains `ids`; a chain whose process failed is an error, one
 # that could not start (stanfit mode != 0) goes to `on_failure()`. Warnings
 # kept by run_chain() are raised here.
-collect_chains <- function(results, on_failure, call) {
+collect_chains <- function(results, ids, on_failure, call) {
   failed <- which(vapply(results, inherits, logical(1), "try-error"))
   if (length(failed) > 0L) {
-    abort_bayesbem(c("Chain {failed[1]} failed.",
+    abort_bayesbem(c("Chain {ids[failed[1]]} failed.",
                      x = conditionMessage(attr(results[[failed[1]]], "condition"))),
                    "sampling", call = call)
   }

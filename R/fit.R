@@ -56,20 +56,25 @@
 #'   benchmark (`bench/RESULTS.md`) joint fits converged up to 36 months
 #'   but not at 120 days, where the modular fit converged in a tenth of the
 #'   time; with 12 months and 10 runs, stage 1 alone can be bimodal.
-#' @param minor_modes What to do with a chain stuck in a minor mode of the
-#'   posterior: `"drop"` it (with a message) or `"keep"` it. Each chain's
-#'   mode gets a Laplace estimate of its posterior mass from the chain's
-#'   own draws (mean log density plus half the log determinant of their
-#'   covariance on Stan's unconstrained scale); a chain whose mode holds
-#'   less than e^-10 of the best chain's mass is dropped, in each stage of a
-#'   modular fit, provided two chains remain. Chains in modes of similar
-#'   mass are always kept, and
-#'   [check_convergence()] reports that they disagree. `fit$settings$dropped`
-#'   lists the dropped chains. When the dropped chains put a calibration
-#'   parameter outside the kept chains' 90 % interval the message says so:
-#'   such modes can be the emulator's error rather than the data's, and the
-#'   emulator can check out at the kept mode while being wrong between the
-#'   modes (a year of daily data, `bench/RESULTS.md`), so refit with
+#' @param minor_modes What to do with chains stuck in a minor mode of the
+#'   posterior: `"drop"` (the default) deals with them as below, with a
+#'   message; `"keep"` keeps every chain as it ran. Each chain's mode gets a
+#'   Laplace estimate of its posterior mass from the chain's own draws (mean
+#'   log density plus half the log determinant of their covariance on Stan's
+#'   unconstrained scale). Chains whose mode holds less than e^-5 of the
+#'   best chain's mass are dropped when two chains remain; when the best
+#'   chain alone found the main mode they are run again from its draws
+#'   (provided it had no divergent transition), so the fit keeps all its
+#'   chains. Both happen in each stage of a modular fit. Chains in modes of
+#'   similar mass are always kept, and [check_convergence()] reports that
+#'   they disagree. `fit$settings$dropped` and `fit$settings$restarted` list
+#'   the chains. Measured (`bench/RESULTS.md`): with 12 months, chains that
+#'   had split between modes (R-hat 1.53) all joined the one chain in the
+#'   main mode when restarted from it. When the minor mode put a
+#'   calibration parameter outside the fit's 90 % interval the message says
+#'   so: such modes can be the emulator's error rather than the data's, and
+#'   the emulator can check out at the main mode while being wrong between
+#'   the modes (a year of daily data, `bench/RESULTS.md`), so refit with
 #'   `"keep"` and run [validate_emulator()] over every mode.
 #' @param progress Show a progress bar over all chains while sampling
 #'   (Stan's own per-chain iteration lines are not printed). The default is
@@ -144,10 +149,12 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                      settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                                      control = control, structure = structure, modular = modular,
                                      minor_modes = minor_modes,
-                                     dropped = dropped_chains(stanfit, emulator)),
+                                     dropped = dropped_chains(stanfit, emulator),
+                                     restarted = restarted_chains(stanfit, emulator)),
                      predict_at = if (!is.null(predict_at)) predict_at[data$names$x],
                      emulator = emulator)
-  inform_dropped(fit$settings$dropped, moved_parameters(fit, attr(stanfit, "dropped_tf")))
+  inform_minor_modes(fit$settings$dropped, fit$settings$restarted,
+                     moved_parameters(fit, attr(stanfit, "minor_tf")))
   check_convergence(fit)
   fit
 }
@@ -158,48 +165,66 @@ dropped_chains <- function(stanfit, emulator) {
   dropped[lengths(dropped) > 0L]
 }
 
+# The chains sample_chains() ran again from the draws of the one chain in the
+# main mode, per stage: `chains` and `from`.
+restarted_chains <- function(stanfit, emulator) {
+  restarted <- lapply(list(emulator = emulator$stanfit, fit = stanfit), function(s) {
+    if (length(attr(s, "restarted")) > 0L) {
+      list(chains = attr(s, "restarted"), from = attr(s, "restarted_from"))
+    }
+  })
+  restarted[lengths(restarted) > 0L]
+}
+
 # The number of chains whose draws a fit holds.
 kept_chains <- function(fit) fit$settings$chains - length(fit$settings$dropped$fit)
 
-# Tells which chains were dropped, per stage; `moved` (from
-# moved_parameters()) lists the calibration parameters the dropped chains
-# put elsewhere.
-inform_dropped <- function(dropped, moved = character()) {
-  for (stage in names(dropped)) {
-    k <- dropped[[stage]]
-    chains <- sprintf("%s%s %s", if (stage == "emulator") "Stage-1 c" else "C",
-                      if (length(k) > 1L) "hains" else "hain", paste(k, collapse = " and "))
-    verb <- if (length(k) > 1L) "were" else "was"
+# Tells which chains were dropped or restarted, per stage; `moved` (from
+# moved_parameters()) lists the calibration parameters the minor mode put
+# elsewhere.
+inform_minor_modes <- function(dropped, restarted = list(), moved = character()) {
+  for (stage in union(names(dropped), names(restarted))) {
+    from <- restarted[[stage]]$from
+    k <- dropped[[stage]] %||% restarted[[stage]]$chains
+    done <- if (is.null(from)) "dropped" else
+      sprintf("run again from the draws of chain %d, which alone found the main mode", from)
     # measured (bench/RESULTS.md, 365 days, problem 3): two modes of the
     # calibration, the truth between them; validate_emulator() trusted the
     # emulator at the kept mode and not over both
     advice <- if (stage == "fit" && length(moved) > 0L) {
       c(stats::setNames(moved, rep("x", length(moved))),
-        i = "The emulator can be right at the kept mode and wrong between the modes: refit with {.code minor_modes = \"keep\"} and check it over every mode with {.fn validate_emulator}, or add runs with {.fn design_posterior}.")
+        i = "The emulator can be right at the main mode and wrong between the modes: refit with {.code minor_modes = \"keep\"} and check it over every mode with {.fn validate_emulator}, or add runs with {.fn design_posterior}.")
     } else {
-      c(i = "Keep every chain with {.code minor_modes = \"keep\"}.")
+      c(i = "Keep every chain as it ran with {.code minor_modes = \"keep\"}.")
     }
-    cli::cli_inform(c("!" = "{chains} {verb} stuck in a minor mode (under e^-10 of the main mode's posterior mass) and dropped.",
-                      advice),
+    said <- sprintf("%shain%s %s %s stuck in a minor mode (under e^-5 of the main mode's posterior mass) and %s.",
+                    if (stage == "emulator") "Stage-1 c" else "C", if (length(k) > 1L) "s" else "",
+                    and_list(k), if (length(k) > 1L) "were" else "was", done)
+    cli::cli_inform(c("!" = said, advice),
                     class = "bayesbem_message_minor_modes")
   }
 }
 
-# The calibration parameters whose median in the dropped chains
-# (`dropped_tf`, draws on the [0, 1] scale) lies outside the kept chains'
-# 90 % interval, one line each in physical units.
-moved_parameters <- function(fit, dropped_tf) {
-  if (is.null(dropped_tf)) {
+# "1", "1 and 2", "1, 2 and 3"
+and_list <- function(k) {
+  if (length(k) < 2L) k else paste(paste(utils::head(k, -1L), collapse = ", "), "and", k[length(k)])
+}
+
+# The calibration parameters whose median in the minor mode's chains
+# (`minor_tf`, draws on the [0, 1] scale) lies outside the fit's 90 %
+# interval, one line each in physical units.
+moved_parameters <- function(fit, minor_tf) {
+  if (is.null(minor_tf)) {
     return(character())
   }
   kept <- parameter_draws(fit)
-  away <- unscale_t(matrix(apply(dropped_tf, 2, stats::median), 1), fit$data$scaling)[1, ]
+  away <- unscale_t(matrix(apply(minor_tf, 2, stats::median), 1), fit$data$scaling)[1, ]
   lines <- vapply(seq_along(away), function(k) {
     q <- stats::quantile(kept[, k], c(0.05, 0.95), names = FALSE)
     if (away[k] >= q[1] && away[k] <= q[2]) {
       return(NA_character_)
     }
-    sprintf("%s: %s in the dropped chains, %s to %s (90%%) in the kept ones.",
+    sprintf("%s: %s in the minor mode, %s to %s (90%%) in the main mode.",
             fit$data$names$t[k], format(signif(away[k], 3)), format(signif(q[1], 3)),
             format(signif(q[2], 3)))
   }, character(1))
@@ -434,7 +459,7 @@ print.summary.koh_fit <- function(x, ...) {
               if (isTRUE(st$modular)) ", modular" else ""))
   cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions%s\n\n",
               st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent,
-              dropped_label(st$dropped)))
+              minor_modes_label(st$dropped, st$restarted)))
   cat("Calibration parameters (physical units):\n")
   print_summary_table(x$parameters)
   cat("\nGaussian-process hyperparameters (standardised scale):\n")
@@ -445,16 +470,20 @@ print.summary.koh_fit <- function(x, ...) {
   invisible(x)
 }
 
-dropped_label <- function(dropped) {
-  if (length(dropped) == 0L) {
-    return("")
-  }
-  stages <- vapply(names(dropped), function(stage) {
-    k <- dropped[[stage]]
+# The chains dropped or restarted as stuck in a minor mode, for the summary.
+minor_modes_label <- function(dropped, restarted = list()) {
+  chains <- function(stage, k) {
     sprintf("%s%s %s", if (stage == "emulator") "stage-1 " else "",
             if (length(k) > 1L) "chains" else "chain", paste(k, collapse = ", "))
-  }, character(1))
-  sprintf("; dropped (minor mode): %s", paste(stages, collapse = "; "))
+  }
+  label <- function(what, stages) {
+    if (length(stages) == 0L) "" else sprintf("; %s (minor mode): %s", what,
+                                              paste(stages, collapse = "; "))
+  }
+  paste0(label("dropped", unlist(Map(chains, names(dropped), dropped))),
+         label("restarted", unlist(Map(function(stage, r) {
+           sprintf("%s from chain %d", chains(stage, r$chains), r$from)
+         }, names(restarted), restarted))))
 }
 
 # Prints a summary table with one row per variable (the row names). Each

@@ -33,20 +33,60 @@ mode_draws <- function(height, spread) {
   draws
 }
 
-test_that("a chain stuck in a mode of far lower posterior mass is found", {
+test_that("chains stuck in a mode of far lower posterior mass are found", {
+  none <- list(drop = integer(0), restart = integer(0), from = NULL)
   # log mass = height + 6 log(spread): chain 3's mode has e^-30 of the
   # first chains' mass; chain 4's peak is 12 lower but 10 times wider in 6
   # directions (log mass -12 + 13.8 = 1.8 against the first chains')
   draws <- mode_draws(height = c(0, 0.5, -30, -12), spread = c(1, 1, 1, 10))
-  expect_equal(bayesbem:::minor_mode_chains(draws), 3L)
+  expect_equal(bayesbem:::minor_mode_chains(draws), list(drop = 3L, restart = integer(0), from = NULL))
   # modes of similar mass are kept: the chains disagree, and R-hat says so
-  expect_equal(bayesbem:::minor_mode_chains(mode_draws(c(0, 0, -5, 0), rep(1, 4))), integer(0))
-  # a single chain left to stand alone: nothing is dropped
-  expect_equal(bayesbem:::minor_mode_chains(mode_draws(c(0, -30, -30, -30), rep(1, 4))),
-               integer(0))
+  expect_equal(bayesbem:::minor_mode_chains(mode_draws(c(0, 0, -3, 0), rep(1, 4))), none)
+  # the main mode found by one chain: the others start again from it, unless
+  # it had divergent transitions
+  lone <- mode_draws(c(0, -30, -30, -30), rep(1, 4))
+  expect_equal(bayesbem:::minor_mode_chains(lone), list(drop = integer(0), restart = 2:4, from = 1L))
+  expect_equal(bayesbem:::minor_mode_chains(lone, divergent = c(1, 0, 0, 0)), none)
   # one chain, or too few draws for a covariance: nothing is judged
-  expect_equal(bayesbem:::minor_mode_chains(draws[, 1, , drop = FALSE]), integer(0))
-  expect_equal(bayesbem:::minor_mode_chains(draws[1:4, , ]), integer(0))
+  expect_equal(bayesbem:::minor_mode_chains(draws[, 1, , drop = FALSE]), none)
+  expect_equal(bayesbem:::minor_mode_chains(draws[1:4, , ]), none)
+})
+
+test_that("restarted chains start from the main mode's draws and are reported", {
+  skip_on_cran()
+  d <- koh_data(seb_field, seb_sim)
+  sample_seb <- function(chain_id, ...) {
+    suppressWarnings(rstan::sampling(bayesbem:::stanmodels$koh_grid,
+                                     data = bayesbem:::koh_stan_data(d, koh_priors(), NULL, "grid"),
+                                     chains = 1, chain_id = chain_id, iter = 150, seed = 5,
+                                     refresh = 0, control = list(adapt_delta = 0.9), ...))
+  }
+  first <- sample_seb(1)
+  inits <- bayesbem:::restart_inits(first, 2)
+  draws <- as.array(first)[, 1, ]
+  expect_named(inits[[2]], c("tf", "rho_eta", "rho_delta", "lambda_eta", "lambda_delta",
+                             "lambda_e", "gamma", "b"))
+  expect_equal(inits[[2]]$tf, array(unname(draws[75, sprintf("tf[%d]", 1:3)]), 3))
+  expect_equal(inits[[1]]$lambda_e, unname(draws[38, "lambda_e"]))
+  # the judgement made to restart chain 2 from chain 1 (it is tested above)
+  judge <- bayesbem:::minor_mode_chains
+  utils::assignInNamespace("minor_mode_chains", function(draws, divergent) {
+    list(drop = integer(0), restart = 2L, from = 1L)
+  }, "bayesbem")
+  withr::defer(utils::assignInNamespace("minor_mode_chains", judge, "bayesbem"))
+  expect_message(
+    fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = 5, cores = 2,
+                                      control = list(adapt_delta = 0.9)),
+                            classes = "bayesbem_warning_convergence"),
+    "Chain 2 was stuck in a minor mode .* run again from the draws of chain 1",
+    class = "bayesbem_message_minor_modes"
+  )
+  expect_equal(fit$settings$restarted, list(fit = list(chains = 2L, from = 1L)))
+  expect_equal(as.array(fit$stanfit)[, 1, ], as.array(first)[, 1, ])
+  expect_equal(as.array(fit$stanfit)[, 2, ],
+               as.array(sample_seb(2, init = bayesbem:::restart_inits(first, 1)))[, 1, ])
+  expect_match(capture.output(print(summary(fit)))[2], "restarted (minor mode): chain 2 from chain 1",
+               fixed = TRUE)
 })
 
 test_that("draws go to Stan's unconstrained scale, parameters block only", {
@@ -58,26 +98,31 @@ test_that("draws go to Stan's unconstrained scale, parameters block only", {
   expect_equal(unname(u[, 3]), log(c(10, 400)))
 })
 
-test_that("dropped chains are named in the message and the summary", {
-  expect_message(bayesbem:::inform_dropped(list(emulator = 2L, fit = c(1L, 4L))),
+test_that("dropped and restarted chains are named in the message and the summary", {
+  expect_message(bayesbem:::inform_minor_modes(list(emulator = 2L, fit = c(1L, 4L))),
                  class = "bayesbem_message_minor_modes")
-  expect_snapshot(bayesbem:::inform_dropped(list(emulator = 2L, fit = c(1L, 4L))))
-  moved <- "fan_total_efficiency: 0.45 in the dropped chains, 0.61 to 0.86 (90%) in the kept ones."
-  expect_snapshot(bayesbem:::inform_dropped(list(fit = 3L), moved))
-  expect_equal(bayesbem:::dropped_label(list(emulator = 2L, fit = 3L)),
+  expect_snapshot(bayesbem:::inform_minor_modes(list(emulator = 2L, fit = c(1L, 4L))))
+  moved <- "fan_total_efficiency: 0.45 in the minor mode, 0.61 to 0.86 (90%) in the main mode."
+  expect_snapshot(bayesbem:::inform_minor_modes(list(fit = 3L), moved = moved))
+  expect_snapshot(bayesbem:::inform_minor_modes(list(), list(fit = list(chains = 2:4, from = 1L)),
+                                                moved))
+  expect_equal(bayesbem:::minor_modes_label(list(emulator = 2L, fit = 3L)),
                "; dropped (minor mode): stage-1 chain 2; chain 3")
-  expect_equal(bayesbem:::dropped_label(list()), "")
+  expect_equal(bayesbem:::minor_modes_label(list(emulator = 3L),
+                                            list(fit = list(chains = c(1L, 3L), from = 2L))),
+               "; dropped (minor mode): stage-1 chain 3; restarted (minor mode): chains 1, 3 from chain 2")
+  expect_equal(bayesbem:::minor_modes_label(list()), "")
 })
 
-test_that("the calibration parameters a dropped chain put elsewhere are named", {
+test_that("the calibration parameters a minor mode put elsewhere are named", {
   tf <- as.matrix(seb_fit$stanfit, pars = "tf")
   physical <- bayesbem:::parameter_draws(seb_fit)
-  # the dropped chains at the kept medians, but the first parameter at the
-  # bottom of its range, outside the kept 90 % interval
+  # the minor mode at the fit's medians, but the first parameter at the
+  # bottom of its range, outside the fit's 90 % interval
   at <- rep(apply(tf, 2, median), each = 10)
-  dropped <- matrix(at, 10)
-  dropped[, 1] <- 0.001
-  moved <- bayesbem:::moved_parameters(seb_fit, dropped)
+  minor <- matrix(at, 10)
+  minor[, 1] <- 0.001
+  moved <- bayesbem:::moved_parameters(seb_fit, minor)
   expect_length(moved, 1)
   name <- colnames(physical)[1]
   expect_match(moved, paste0("^", name, ": "))
@@ -120,8 +165,8 @@ test_that("progress is read from Stan's iteration lines", {
 
 test_that("a chain whose process fails is a classed error", {
   results <- list(list(fit = NULL, warnings = list()), bayesbem:::try_error("out of memory"))
-  expect_error(bayesbem:::collect_chains(results, identity, NULL), "out of memory",
-               class = "bayesbem_error_sampling")
+  expect_error(bayesbem:::collect_chains(results, 3:4, identity, NULL),
+               "Chain 4 failed.*out of memory", class = "bayesbem_error_sampling")
 })
 
 test_that("a list of starting values gives each chain its own", {
