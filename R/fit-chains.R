@@ -57,8 +57,8 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
     }
     if (length(modes$restart) > 0L) {
       fits[modes$restart] <- run_chains(
-        modes$restart, sprintf("Restarting %d chains from chain %d", length(modes$restart),
-                               modes$from),
+        modes$restart, sprintf("Restarting %d chain%s from chain %d", length(modes$restart),
+                               if (length(modes$restart) > 1L) "s" else "", modes$from),
         restart_inits(fits[[modes$from]], length(modes$restart))
       )
     }
@@ -93,8 +93,9 @@ chain_draws <- function(fits) {
 # measured: with 30 runs at n = 36 one chain alone once outscored three,
 # with 36 effective draws and a divergent transition). The gap of 5 (a mode
 # under 0.7 % of the mass) is measured at 12 months (bench/RESULTS.md):
-# lone chains outscored three by 5.3 and by 30, and the three restarted from
-# them joined them (R-hat 1.53 to 1.002); chains in one mode agree within 2.
+# lone chains outscored three by 5.1-5.3 and by 30, and the three
+# restarted from them joined them (R-hat 1.53 to 1.002); chains in one
+# mode agree within 2.
 minor_mode_chains <- function(draws, divergent = integer(dim(draws)[2]), gap = 5) {
   none <- list(drop = integer(0), restart = integer(0), from = NULL)
   if (dim(draws)[2] < 2L) {
