@@ -133,11 +133,12 @@ chain_divergences <- function(fits) {
 # one-chain stanfit, at iterations spread over its second half.
 restart_inits <- function(fit, n) {
   draws <- as.array(fit)[, 1, ]
-  pars <- intersect(names(fit@par_dims), parameter_block_names())
+  pars <- intersect(names(fit@par_dims), unlist(parameter_block(), use.names = FALSE))
+  base <- sub("\\[.*$", "", colnames(draws))
   rows <- round(seq(nrow(draws) / 2, nrow(draws), length.out = n))
   lapply(rows, function(i) {
     values <- lapply(pars, function(p) {
-      v <- unname(draws[i, grepl(sprintf("^%s(\\[|$)", p), colnames(draws))])
+      v <- unname(draws[i, base == p])
       dims <- fit@par_dims[[p]]
       if (length(dims) == 0L) v else array(v, dims)
     })
@@ -146,20 +147,24 @@ restart_inits <- function(fit, n) {
 }
 
 # The names in the parameters blocks of the package's Stan programs
-# (koh_parameters.stan, koh_emulator.stan, koh_modular.stan, koh.stan).
-parameter_block_names <- function() {
-  c("tf", "rho_eta", "rho_delta", "lambda_eta", "lambda_delta", "lambda_e", "gamma", "b",
-    "y_pred")
+# (koh_parameters.stan, koh_emulator.stan, koh_modular.stan, koh.stan), by
+# Stan's transform to the unconstrained scale: logit for the (0, 1)
+# parameters, log for the precisions, none for the rest.
+parameter_block <- function() {
+  list(logit = c("tf", "rho_eta", "rho_delta"),
+       log = c("lambda_eta", "lambda_delta", "lambda_e"),
+       identity = c("b", "gamma", "y_pred"))
 }
 
 # A chain's draws of the parameters block on Stan's unconstrained scale
-# (koh_parameters.stan: logit for the (0, 1) parameters, log for the
-# precisions); transformed parameters and generated quantities are left out.
+# (parameter_block()); transformed parameters and generated quantities are
+# left out.
 unconstrained_draws <- function(draws) {
   base <- sub("\\[.*$", "", colnames(draws))
-  cbind(stats::qlogis(draws[, base %in% c("tf", "rho_eta", "rho_delta"), drop = FALSE]),
-        log(draws[, base %in% c("lambda_eta", "lambda_delta", "lambda_e"), drop = FALSE]),
-        draws[, base %in% c("b", "gamma", "y_pred"), drop = FALSE])
+  block <- parameter_block()
+  cbind(stats::qlogis(draws[, base %in% block$logit, drop = FALSE]),
+        log(draws[, base %in% block$log, drop = FALSE]),
+        draws[, base %in% block$identity, drop = FALSE])
 }
 
 # Runs `run(k, log)` for each chain in forked processes, `cores` at a time,

@@ -161,19 +161,24 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
 
 # The chains sample_chains() dropped as stuck in a minor mode, per stage.
 dropped_chains <- function(stanfit, emulator) {
-  dropped <- list(emulator = attr(emulator$stanfit, "dropped"), fit = attr(stanfit, "dropped"))
-  dropped[lengths(dropped) > 0L]
+  by_stage(stanfit, emulator, function(s) attr(s, "dropped"))
 }
 
 # The chains sample_chains() ran again from the draws of the one chain in the
 # main mode, per stage: `chains` and `from`.
 restarted_chains <- function(stanfit, emulator) {
-  restarted <- lapply(list(emulator = emulator$stanfit, fit = stanfit), function(s) {
+  by_stage(stanfit, emulator, function(s) {
     if (length(attr(s, "restarted")) > 0L) {
       list(chains = attr(s, "restarted"), from = attr(s, "restarted_from"))
     }
   })
-  restarted[lengths(restarted) > 0L]
+}
+
+# `read()` of the stage-1 (emulator) and stage-2 (fit) stanfits, named by
+# stage, the empty ones left out.
+by_stage <- function(stanfit, emulator, read) {
+  out <- lapply(list(emulator = emulator$stanfit, fit = stanfit), read)
+  out[lengths(out) > 0L]
 }
 
 # The number of chains whose draws a fit holds.
