@@ -151,9 +151,9 @@ restart_inits <- function(fit, n) {
 # Stan's transform to the unconstrained scale: logit for the (0, 1)
 # parameters, log for the precisions, none for the rest.
 parameter_block <- function() {
-  list(logit = "tf",
+  list(logit = c("tf", "rho_eta", "rho_delta"),
        log = c("lambda_eta", "lambda_delta", "lambda_e"),
-       identity = c("log_beta_eta", "log_beta_delta", "b", "gamma", "y_pred"))
+       identity = c("b", "gamma", "y_pred"))
 }
 
 # A chain's draws of the parameters block on Stan's unconstrained scale

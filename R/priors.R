@@ -13,13 +13,6 @@
 #' `bench/bench-reliability.R`; `emulator_mean = "zero"` gives the paper's
 #' model exactly.
 #'
-#' The Stan programs sample each correlation parameter on the log scale of
-#' its inverse squared length scale, `log(beta)` with `rho = exp(-beta /
-#' 4)` (parameters `log_beta_eta`, `log_beta_delta`), with the Jacobian, so
-#' the prior is the same Beta. On that scale a length scale the data pin
-#' down is as easy to sample when it is short as when it is long, where
-#' Stan's logit of `rho` stretches short length scales over tens of units.
-#'
 #' Two named sets read the Gamma priors. `set = "paper"` (the default) takes
 #' them on the standardised output scale, as the paper does: the emulator's
 #' prior variance is about that of the runs, which a zero-mean emulator has

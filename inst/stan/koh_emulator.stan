@@ -25,18 +25,18 @@ transformed data {
   matrix[mt, mt] eq_tt = equal_rows(tc, tc);
 }
 parameters {
-  vector[p + q] log_beta_eta;            // log inverse squared length scales
+  vector<lower=0, upper=1>[p + q] rho_eta;
   real<lower=0> lambda_eta;              // precision of the emulator
   vector[n_b] b;                         // coefficients of the emulator mean
 }
 transformed parameters {
   // rho = exp(-beta / 4)
-  vector[p + q] beta_eta = exp(log_beta_eta);
+  vector[p + q] beta_eta = -4 * log(rho_eta);
 }
 model {
   matrix[n_x, n_x] Kx = jittered_cor(nd2_xx, eq_xx, head(beta_eta, p), nugget);
   matrix[mt, mt] Kt = jittered_cor(nd2_tt, eq_tt, tail(beta_eta, q), nugget);
-  target += log_beta_lpdf(log_beta_eta | rho_eta_a, rho_eta_b);
+  target += beta_lpdf(rho_eta | rho_eta_a, rho_eta_b);
   target += gamma_lpdf(lambda_eta | lambda_eta_shape, lambda_eta_rate);
   target += normal_lpdf(b | 0, b_sd);
   target += runs_grid_lpdf(eta - grid_mean(x_grid, tc, mean_coefficients(b_select, b))

@@ -33,17 +33,17 @@ transformed data {
 }
 parameters {
   vector<lower=0, upper=1>[q] tf;        // calibration parameters
-  vector[p] log_beta_delta;              // log inverse squared length scales of the discrepancy
+  vector<lower=0, upper=1>[p] rho_delta;
   real<lower=0> lambda_delta;            // precision of the discrepancy
   real<lower=0> lambda_e;                // precision of the observation error
   vector[n_h] gamma;                     // coefficients of the discrepancy terms
 }
 transformed parameters {
-  vector[p] beta_delta = exp(log_beta_delta);
+  vector[p] beta_delta = -4 * log(rho_delta);
 }
 model {
   vector[mt + 1] wc = runs_weights(Lt, tf_cor(tf', tc, tail(beta_eta_fixed, q)), nugget);
-  target += log_beta_lpdf(log_beta_delta | rho_delta_a, rho_delta_b);
+  target += beta_lpdf(rho_delta | rho_delta_a, rho_delta_b);
   target += gamma_lpdf(lambda_delta | lambda_delta_shape, lambda_delta_rate);
   target += gamma_lpdf(lambda_e | lambda_e_shape, lambda_e_rate);
   target += tf_prior_lpdf(tf | tf_is_normal, tf_mu, tf_sd, tf_scale, tf_lo, tf_span, tf_v_lo,

@@ -12,8 +12,8 @@ reference_log_density <- function(sd, pars) {
   N <- n + m
   u <- rbind(cbind(sd$xf, matrix(pars$tf, n, sd$q, byrow = TRUE)),
              cbind(sd$xc, sd$tc))
-  beta_eta <- exp(pars$log_beta_eta)
-  beta_delta <- exp(pars$log_beta_delta)
+  beta_eta <- -4 * log(pars$rho_eta)
+  beta_delta <- -4 * log(pars$rho_delta)
   sigma <- matrix(0, N, N)
   for (i in seq_len(N)) {
     for (j in seq_len(N)) {
@@ -57,26 +57,14 @@ reference_log_density <- function(sd, pars) {
     }
   }
   ll + lp_tf +
-    reference_log_beta_prior(pars$log_beta_eta, sd$rho_eta_a, sd$rho_eta_b) +
-    reference_log_beta_prior(pars$log_beta_delta, sd$rho_delta_a, sd$rho_delta_b) +
+    sum(stats::dbeta(pars$rho_eta, sd$rho_eta_a, sd$rho_eta_b, log = TRUE)) +
+    sum(stats::dbeta(pars$rho_delta, sd$rho_delta_a, sd$rho_delta_b, log = TRUE)) +
     stats::dgamma(pars$lambda_eta, sd$lambda_eta_shape, sd$lambda_eta_rate, log = TRUE) +
     stats::dgamma(pars$lambda_delta, sd$lambda_delta_shape, sd$lambda_delta_rate, log = TRUE) +
     stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE) +
     sum(stats::dnorm(pars$gamma, 0, sd$gamma_sd, log = TRUE)) +
     sum(stats::dnorm(pars$b, 0, sd$b_sd, log = TRUE))
 }
-
-# The Stan programs sample each correlation parameter rho = exp(-beta / 4)
-# ~ Beta(a, b) through v = log(beta); its log density is the Beta density
-# of rho with |d rho / d v| = rho beta / 4.
-reference_log_beta_prior <- function(v, a, b) {
-  beta <- exp(v)
-  rho <- exp(-beta / 4)
-  sum(stats::dbeta(rho, a, b, log = TRUE) + log(rho * beta / 4))
-}
-
-# log(beta) of a correlation parameter rho.
-reference_log_beta <- function(rho) log(-4 * log(rho))
 
 # Emulator covariance of rows u and v = (x, t): the product kernel with the
 # nugget on each factor where the factor's inputs are equal.
@@ -91,8 +79,8 @@ reference_eta_cov <- function(u, v, sd, beta_eta, lambda_eta) {
 random_koh_pars <- function(sd) {
   list(tf = as.array(stats::runif(sd$q)),
        y_pred = as.array(stats::rnorm(sd$n_pred)),
-       log_beta_eta = as.array(reference_log_beta(stats::runif(sd$p + sd$q, 0.3, 0.99))),
-       log_beta_delta = as.array(reference_log_beta(stats::runif(sd$p, 0.3, 0.99))),
+       rho_eta = as.array(stats::runif(sd$p + sd$q, 0.3, 0.99)),
+       rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
        lambda_eta = stats::rgamma(1, 10, 10),
        lambda_delta = stats::rgamma(1, 10, 0.3),
        lambda_e = stats::rgamma(1, 10, 0.03),
@@ -127,8 +115,8 @@ reference_conditional <- function(sd, pars, x_new) {
   has_eta <- c(rep(TRUE, n + m + k), rep(FALSE, k))
   has_delta <- c(rep(TRUE, n), rep(FALSE, m + k), rep(TRUE, k))
   is_field <- c(rep(TRUE, n), rep(FALSE, m + 2 * k))
-  beta_eta <- exp(pars$log_beta_eta)
-  beta_delta <- exp(pars$log_beta_delta)
+  beta_eta <- -4 * log(pars$rho_eta)
+  beta_delta <- -4 * log(pars$rho_delta)
   total <- n + m + 2 * k
   cov <- matrix(0, total, total)
   for (i in seq_len(total)) {
@@ -165,7 +153,7 @@ reference_coef <- function(sd, pars) {
 
 # The same parameters in the form R's prediction code takes.
 as_draw_pars <- function(pars, nugget, sd) {
-  list(tf = pars$tf, beta_eta = exp(pars$log_beta_eta), beta_delta = exp(pars$log_beta_delta),
+  list(tf = pars$tf, beta_eta = -4 * log(pars$rho_eta), beta_delta = -4 * log(pars$rho_delta),
        lambda_eta = pars$lambda_eta, lambda_delta = pars$lambda_delta,
        lambda_e = pars$lambda_e, gamma = pars$gamma, coef = reference_coef(sd, pars),
        nugget = nugget)

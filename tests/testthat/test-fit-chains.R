@@ -64,7 +64,7 @@ test_that("restarted chains start from the main mode's draws and are reported", 
   first <- sample_seb(1)
   inits <- bayesbem:::restart_inits(first, 2)
   draws <- as.array(first)[, 1, ]
-  expect_named(inits[[2]], c("tf", "log_beta_eta", "log_beta_delta", "lambda_eta", "lambda_delta",
+  expect_named(inits[[2]], c("tf", "rho_eta", "rho_delta", "lambda_eta", "lambda_delta",
                              "lambda_e", "gamma", "b"))
   expect_equal(inits[[2]]$tf, array(unname(draws[75, sprintf("tf[%d]", 1:3)]), 3))
   expect_equal(inits[[1]]$lambda_e, unname(draws[38, "lambda_e"]))
@@ -90,13 +90,12 @@ test_that("restarted chains start from the main mode's draws and are reported", 
 })
 
 test_that("draws go to Stan's unconstrained scale, parameters block only", {
-  draws <- cbind(`tf[1]` = c(0.2, 0.7), `log_beta_eta[2]` = c(0.5, -0.9), lambda_e = c(10, 400),
+  draws <- cbind(`tf[1]` = c(0.2, 0.7), `rho_eta[2]` = c(0.5, 0.9), lambda_e = c(10, 400),
                  `b[1]` = c(-1, 2), `beta_eta[1]` = c(1, 2), lp__ = c(-3, -4))
   u <- bayesbem:::unconstrained_draws(draws)
-  expect_equal(colnames(u), c("tf[1]", "lambda_e", "log_beta_eta[2]", "b[1]"))
+  expect_equal(colnames(u), c("tf[1]", "rho_eta[2]", "lambda_e", "b[1]"))
   expect_equal(unname(u[, 1]), log(c(0.2, 0.7) / c(0.8, 0.3)))
-  expect_equal(unname(u[, 2]), log(c(10, 400)))
-  expect_equal(unname(u[, 3]), c(0.5, -0.9))
+  expect_equal(unname(u[, 3]), log(c(10, 400)))
 })
 
 test_that("dropped and restarted chains are named in the message and the summary", {

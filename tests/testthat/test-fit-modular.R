@@ -22,12 +22,12 @@ test_that("stage 1 + stage 2 log densities equal the joint grid density", {
     model_stage1 <- koh_model_for(stage1_sd, "koh_emulator")
     for (i in 1:3) {
       pars <- random_koh_pars(dense_sd)
-      emulator <- list(beta_eta = exp(pars$log_beta_eta),
-                       lambda_eta = pars$lambda_eta, b = pars$b)
+      emulator <- list(beta_eta = -4 * log(pars$rho_eta), lambda_eta = pars$lambda_eta,
+                       b = pars$b)
       stage2_sd <- bayesbem:::modular_stan_data(d, pr$priors, emulator)
       model_stage2 <- koh_model_for(stage2_sd, "koh_modular")
-      lp1 <- stan_log_density(model_stage1, pars[c("log_beta_eta", "lambda_eta", "b")])
-      lp2 <- stan_log_density(model_stage2, pars[c("tf", "log_beta_delta", "lambda_delta",
+      lp1 <- stan_log_density(model_stage1, pars[c("rho_eta", "lambda_eta", "b")])
+      lp2 <- stan_log_density(model_stage2, pars[c("tf", "rho_delta", "lambda_delta",
                                                    "lambda_e", "gamma")])
       joint <- stan_log_density(model_grid, pars[names(pars) != "y_pred"])
       expect_equal(lp1 + lp2, joint, tolerance = 1e-8)

@@ -99,12 +99,11 @@ expect_gradient_matches <- function(d) {
   priors <- koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)), nugget = 1e-4)
   grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
   pars <- random_koh_pars(bayesbem:::koh_stan_data(d, priors, structure = "dense"))
-  emulator <- list(beta_eta = exp(pars$log_beta_eta), lambda_eta = pars$lambda_eta,
-                   b = pars$b)
+  emulator <- list(beta_eta = -4 * log(pars$rho_eta), lambda_eta = pars$lambda_eta, b = pars$b)
   models <- list(
     koh_grid = list(sd = grid, pars = pars[names(pars) != "y_pred"]),
     koh_modular = list(sd = bayesbem:::modular_stan_data(d, priors, emulator),
-                       pars = pars[c("tf", "log_beta_delta", "lambda_delta", "lambda_e", "gamma")])
+                       pars = pars[c("tf", "rho_delta", "lambda_delta", "lambda_e", "gamma")])
   )
   for (program in names(models)) {
     model <- koh_model_for(models[[program]]$sd, program)

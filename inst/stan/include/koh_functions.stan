@@ -17,16 +17,6 @@
     return d;
   }
 
-  /* Log prior of v = log(beta), beta = -4 log(rho) the inverse squared
-   * length scale, for rho ~ Beta(a, b) (method Eq 9's correlation
-   * parameters): the Beta density at rho = exp(-beta / 4) times
-   * |d rho / d v| = rho beta / 4. log(1 - rho) by log1m_exp() keeps its
-   * precision as rho nears 1. */
-  real log_beta_lpdf(vector v, real a, real b) {
-    vector[rows(v)] quarter = exp(v) / 4;  // beta / 4 = -log(rho)
-    return sum(-a * quarter + (b - 1) * log1m_exp(-quarter) + v) - rows(v) * (log(4) + lbeta(a, b));
-  }
-
   /* (1 / lambda) * exp(-sum_k beta[k] * d2_k) as an nr x nc matrix, from
    * neg_sqdist() of the two sets of rows. */
   matrix sq_exp_cov(matrix neg_d2, vector beta, real lambda, int nr, int nc) {

@@ -1,5 +1,5 @@
-  target += log_beta_lpdf(log_beta_eta | rho_eta_a, rho_eta_b);
-  target += log_beta_lpdf(log_beta_delta | rho_delta_a, rho_delta_b);
+  target += beta_lpdf(rho_eta | rho_eta_a, rho_eta_b);
+  target += beta_lpdf(rho_delta | rho_delta_a, rho_delta_b);
   target += gamma_lpdf(lambda_eta | lambda_eta_shape, lambda_eta_rate);
   target += gamma_lpdf(lambda_delta | lambda_delta_shape, lambda_delta_rate);
   target += gamma_lpdf(lambda_e | lambda_e_shape, lambda_e_rate);

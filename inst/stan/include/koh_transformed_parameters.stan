@@ -1,3 +1,3 @@
   // rho = exp(-beta / 4)
-  vector[p + q] beta_eta = exp(log_beta_eta);
-  vector[p] beta_delta = exp(log_beta_delta);
+  vector[p + q] beta_eta = -4 * log(rho_eta);
+  vector[p] beta_delta = -4 * log(rho_delta);
