@@ -4,14 +4,14 @@ test_that("the shipped fit's verdicts agree with the paper's findings", {
   verdict <- stats::setNames(x$verdict, x$parameter)
   # the paper: equipment power density is determined (about 5-18 W/m2 of
   # 3-30), fan efficiency hardly (spread over its range), and with flat
-  # priors the discrepancy holds no parameter's effect. The posterior sd of
-  # equipment density is about half the prior's (3.4 of 6.8 W/m2 in a
-  # converged case-study fit), on the rule's line between "learnt" and
-  # "partly learnt", so either verdict agrees; it is the best determined.
+  # priors the discrepancy holds no parameter's effect. Equipment density's
+  # posterior sd is about half the prior's (3.4 of 6.8 W/m2 in a converged
+  # case-study fit), near the rule's 0.5 line: a rebuilt seb_fit can land on
+  # "partly learnt" (the paper's interval and the ranking below still hold).
   epd <- stats::quantile(posterior::as_draws_matrix(seb_fit)[, "equipment_power_density"],
                          c(0.05, 0.95))
   expect_true(epd[[1]] > 4 && epd[[2]] < 19)
-  expect_true(verdict[["equipment_power_density"]] %in% c("learnt", "partly learnt"))
+  expect_equal(verdict[["equipment_power_density"]], "learnt")
   expect_equal(x$parameter[which.min(x$sd_ratio)], "equipment_power_density")
   expect_true(verdict[["fan_total_efficiency"]] %in% c("partly learnt", "prior-driven"))
   expect_false(any(verdict == "confounded with the discrepancy"))
@@ -22,7 +22,7 @@ test_that("the shipped fit's verdicts agree with the paper's findings", {
   # flat priors in physical units, whatever scale the emulator works on
   expect_equal(x$prior_sd,
                unname(apply(seb_sim[x$parameter], 2, function(v) diff(range(v)))) / sqrt(12))
-  expect_match(attr(x, "summary"), "The data (determined|narrowed) [a-z_, ]*equipment_power_density")
+  expect_match(attr(x, "summary"), "The data determined equipment_power_density")
 })
 
 test_that("the shift is the discrepancy's projection on the simulator's sensitivity", {
