@@ -40,6 +40,25 @@ test_that("tree-depth hits and a low E-BFMI are warned about like the others", {
   expect_snapshot(bayesbem:::warn_convergence(conv))
 })
 
+test_that("chains that disagree only on the emulator's hyperparameters get their own hint", {
+  withr::local_options(cli.num_colors = 1)
+  conv <- check_convergence(seb_fit, ess_min = 1, warn = FALSE)
+  # the emulator's correlation parameters, variance and mean coefficients
+  expect_setequal(attr(conv, "emulator"),
+                  grep("^(beta_eta\\[|lambda_eta$|b\\[)", conv$variable, value = TRUE))
+  conv$rhat <- 1
+  conv$rhat[conv$variable %in% c("beta_eta[temp]", "lambda_eta")] <- 1.3
+  expect_snapshot(bayesbem:::warn_convergence(conv))
+  # a calibration parameter or a sampler problem as well: the general hint
+  for (change in list(function(x) { x$rhat[x$variable == "equipment_power_density"] <- 1.05; x },
+                      function(x) { attr(x, "sampler")$divergent <- 3; x })) {
+    w <- expect_warning(bayesbem:::warn_convergence(change(conv)),
+                        class = "bayesbem_warning_convergence")
+    expect_no_match(conditionMessage(w), "Only the emulator")
+    expect_match(conditionMessage(w), "Run more iterations")
+  }
+})
+
 test_that("a fit that hits the maximum tree depth says so, and rstan's own warnings are not shown", {
   skip_on_cran()
   warnings <- list()
