@@ -13,19 +13,20 @@
 #' @param sim The simulation data frame when `field` is a data frame.
 #' @param priors A [koh_priors()] object.
 #' @param chains,iter Number of Markov chains and iterations per chain
-#'   (including warm-up). By default 4000 iterations for a joint fit on
-#'   fewer than 36 field rows and 2000 otherwise (see `control`).
+#'   (including warm-up). By default 4000 iterations for a joint fit and
+#'   2000 for a modular one (see `control`).
 #' @param warmup Warm-up iterations per chain; defaults to half of `iter`.
 #' @param seed Random seed; by default one is drawn and stored in the result
 #'   so the fit can be repeated.
 #' @param cores Number of cores to run chains in parallel on.
 #' @param control Sampler control passed to [rstan::sampling()], a list.
-#'   By default `adapt_delta = 0.99` for a joint fit on fewer than 36 field
-#'   rows and `0.9` otherwise (Stan's is 0.8): smaller steps, which the
-#'   curved posteriors of GP hyperparameters need to avoid divergences.
-#'   Measured (`bench/RESULTS.md`): on 10 synthetic problems of 12 months x
-#'   10 runs, 4000 iterations at 0.99 converged in 8 against 3 with 2000 at
-#'   0.9; at 36 months x 30 runs 2000 at 0.9 converged in 10 of 10.
+#'   By default `adapt_delta = 0.99` for a joint fit and `0.9` for a
+#'   modular one (Stan's is 0.8): smaller steps, which the curved
+#'   posteriors of GP hyperparameters need to avoid divergences. Measured
+#'   (`bench/RESULTS.md`): on 10 synthetic problems of 12 months x 10 runs,
+#'   4000 iterations at 0.99 converged in 8 against 3 with 2000 at 0.9; at
+#'   36 months x 30 runs in 10 of 10 against 8 of 10, taking about five times
+#'   longer (4-9 minutes on 2 cores).
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
 #'   paper's Appendix D; about twice as slow). Read them with
@@ -111,7 +112,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   check_priors(priors)
   structure <- choose_structure(data, match_choice(structure), predict_at)
   modular <- choose_modular(modular, data, structure)
-  defaults <- default_sampling(modular, data$n)
+  defaults <- default_sampling(modular)
   iter <- iter %||% defaults$iter
   control <- control %||% defaults$control
   check_count(chains)
@@ -237,15 +238,14 @@ moved_parameters <- function(fit, minor_tf) {
 }
 
 # The iterations and sampler control of a fit whose caller gives none,
-# chosen by measurement (bench/RESULTS.md, reliability): with fewer than
-# `long_below` field rows a joint fit's emulator length scales mix slowly
-# and diverge, which 4000 iterations at adapt_delta 0.99 cure in most
-# problems (12 months x 10 runs: 8 of 10 converged against 3 of 10 with
-# 2000 at 0.9). At 36 months 2000 at 0.9 converged in 10 of 10, and 4000 at
-# 0.99 left a problem of those in an emulator mode; the modular stage 2
-# converged with 2000 at 0.9, and costs far more per iteration.
-default_sampling <- function(modular, n, long_below = 36L) {
-  if (modular || n >= long_below) {
+# chosen by measurement (bench/RESULTS.md, reliability): a joint fit's
+# emulator length scales mix slowly and diverge, which 4000 iterations at
+# adapt_delta 0.99 cure in most problems (12 months x 10 runs: 8 of 10
+# converged against 3 of 10 with 2000 at 0.9; 36 months x 30 runs:
+# 10 of 10 against 8 of 10). The modular stage 2 converged with 2000 at 0.9,
+# and costs far more per iteration.
+default_sampling <- function(modular) {
+  if (modular) {
     return(list(iter = 2000L, control = list(adapt_delta = 0.9)))
   }
   list(iter = 4000L, control = list(adapt_delta = 0.99))
