@@ -14,7 +14,7 @@
 #' When every parameter that fails is one of the emulator's hyperparameters
 #' (`beta_eta`, `lambda_eta`, the mean's `b`) and the sampler had no
 #' trouble, the hint says so and advises runs where the posterior lies
-#' ([design_posterior()]) rather than more iterations. Measured
+#' ([design_posterior()]). Measured
 #' (`bench/RESULTS.md`): with 12 months and 10 runs, 4 of 10 synthetic fits
 #' failed only there, with the calibration parameters converged in all 10;
 #' 10 runs more from [design_posterior()] made 8 of 10 converge.
@@ -144,15 +144,15 @@ emulator_only <- function(conv, flagged) {
 
 # Measured (bench/RESULTS.md, reliability): with few runs per parameter the
 # chains that disagree only on the emulator's length scales sit in modes of
-# similar posterior mass, crossed once or twice in 2000 draws, which longer
-# chains did not join and runs where the posterior lies removed in 3 of 4
-# problems (12 months x 10 runs).
+# similar posterior mass, crossed once or twice in 2000 draws; runs where
+# the posterior lies removed them in 3 of 4 problems (12 months x 10 runs,
+# already at the joint default of 4000 iterations at adapt_delta 0.99).
 emulator_modes_hint <- function() {
   c(i = paste("Only the emulator's hyperparameters failed: the calibration parameters,",
               "the discrepancy and the noise passed. Few runs leave the emulator's length",
               "scales several modes of similar posterior mass, which chains seldom cross."),
     i = paste("Add runs where the posterior lies ({.fn design_posterior}, then",
-              "{.fn simulate_design}) and fit again; more iterations seldom help."))
+              "{.fn simulate_design}) and fit again."))
 }
 
 #' @export

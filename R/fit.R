@@ -25,7 +25,7 @@
 #'   posteriors of GP hyperparameters need to avoid divergences. Measured
 #'   (`bench/RESULTS.md`): on 10 synthetic problems of 12 months x 10 runs,
 #'   4000 iterations at 0.99 converged in 8 against 3 with 2000 at 0.9; at
-#'   36 months x 30 runs in 10 of 10 against 8 of 10, taking about five times
+#'   36 months x 30 runs in 10 of 10 against 8 of 10, taking about four times
 #'   longer (4-9 minutes on 2 cores).
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
