@@ -16,7 +16,8 @@
 # whose calibration parameters alone pass the same R-hat and ESS rule
 # (`tf_converged`: the chains may still disagree on the emulator's
 # hyperparameters), median wall time, the worst R-hat's variable, the mean
-# leapfrog steps per iteration, and the parameters put on a log or reciprocal scale.
+# leapfrog steps per iteration, and the parameters put on a log or
+# reciprocal scale.
 # With BENCH_REFINE=r (r > 0) each problem is then refined once, as the
 # verdict of validate_emulator() advises: r runs from design_posterior() on
 # the first fit, added to the mt runs, and a second fit, reported as size
@@ -67,13 +68,13 @@ evaluate <- function(fit, truth, n, mt, k, wall) {
     truth[[p]] >= q[1] && truth[[p]] <= q[2]
   }, logical(1))
   worst <- which.max(conv$rhat)
-  tf <- conv$variable %in% names(truth)
+  # the R-hat and ESS rule over the table's rows `rows`
+  passes <- function(rows) all(conv$rhat[rows] < 1.01 & pmin(conv$ess_bulk, conv$ess_tail)[rows] >= 400)
   data.frame(n = n, mt = mt, problem = k,
-             converged = max(conv$rhat) < 1.01 && sampler$divergent == 0 &&
-               min(conv$ess_bulk, conv$ess_tail) >= 400,
+             converged = passes(TRUE) && sampler$divergent == 0,
              max_rhat = max(conv$rhat), worst = conv$variable[worst],
-             # the calibration parameters alone, as the 'converged' rule
-             tf_converged = all(conv$rhat[tf] < 1.01 & pmin(conv$ess_bulk, conv$ess_tail)[tf] >= 400),
+             # the calibration parameters alone
+             tf_converged = passes(conv$variable %in% names(truth)),
              min_ess = min(conv$ess_bulk, conv$ess_tail), divergent = sampler$divergent,
              treedepth_hits = sampler$treedepth_hits,
              # mean leapfrog steps per sampling iteration (stage 2 of a modular fit)

@@ -95,6 +95,7 @@ test_that("draws go to Stan's unconstrained scale, parameters block only", {
   u <- bayesbem:::unconstrained_draws(draws)
   expect_equal(colnames(u), c("tf[1]", "rho_eta[2]", "lambda_e", "b[1]"))
   expect_equal(unname(u[, 1]), log(c(0.2, 0.7) / c(0.8, 0.3)))
+  expect_equal(unname(u[, 2]), stats::qlogis(c(0.5, 0.9)))
   expect_equal(unname(u[, 3]), log(c(10, 400)))
 })
 
