@@ -17,7 +17,10 @@
 #' ([design_posterior()]). Measured
 #' (`bench/RESULTS.md`): with 12 months and 10 runs, 4 of 10 synthetic fits
 #' failed only there, with the calibration parameters converged in all 10;
-#' 10 runs more from [design_posterior()] made 8 of 10 converge.
+#' 10 runs more from [design_posterior()] made 8 of 10 converge. When stage 2
+#' of a modular fit kept chains in a minor mode that puts the calibration
+#' parameters elsewhere (see `minor_modes` in [calibrate()]), the hint names
+#' them and advises checking the emulator over both modes.
 #'
 #' @param fit A `koh_fit`.
 #' @param rhat_max R-hat at or above which a parameter has not converged.
@@ -44,7 +47,8 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
   out <- structure(s, class = c("koh_convergence", "data.frame"), sampler = sampler,
                    thresholds = list(rhat_max = rhat_max, ess_min = ess_min,
                                      ebfmi_min = ebfmi_min),
-                   emulator = emulator_variables(fit))
+                   emulator = emulator_variables(fit),
+                   kept_moved = fit$settings$kept_moved %||% integer(0))
   if (warn) warn_convergence(out)
   out
 }
@@ -127,7 +131,13 @@ warn_convergence <- function(conv) {
   # the emulator's hyperparameters
   emulator_only <- length(problems) == draw_problems &&
     all(union(high_rhat, low_ess) %in% attr(conv, "emulator"))
-  hint <- if (emulator_only) emulator_modes_hint() else
+  kept <- attr(conv, "kept_moved")
+  hint <- if (length(kept) > 0L) {
+    c(i = paste(sprintf("Chain%s %s %s kept in a minor mode that puts the calibration parameters elsewhere.",
+                        if (length(kept) > 1L) "s" else "", and_list(kept),
+                        if (length(kept) > 1L) "were" else "was"),
+                kept_modes_advice()))
+  } else if (emulator_only) emulator_modes_hint() else
     c(i = paste("Run more iterations (e.g. double {.arg iter}); for divergences",
                 "raise {.code control = list(adapt_delta = 0.995)}, for tree depth",
                 "{.code control = list(max_treedepth = 12)}; check",

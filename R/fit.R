@@ -24,7 +24,8 @@
 #'   modular one (Stan's is 0.8): smaller steps, which the curved
 #'   posteriors of GP hyperparameters need to avoid divergences. Measured
 #'   (`bench/RESULTS.md`): on 10 synthetic problems of 12 months x 10 runs,
-#'   4000 iterations at 0.99 converged in 8 against 3 with 2000 at 0.9; at
+#'   4000 iterations at 0.99 converged in 6 to 8 (the count moved with
+#'   the code's floating-point arithmetic) against 3 with 2000 at 0.9; at
 #'   36 months x 30 runs in 10 of 10 against 8 of 10, taking about four times
 #'   longer (4-9 minutes on 2 cores).
 #' @param predict_at Optional data frame of observable inputs at which the
@@ -71,12 +72,17 @@
 #'   they disagree. `fit$settings$dropped` and `fit$settings$restarted` list
 #'   the chains. Measured (`bench/RESULTS.md`): with 12 months, chains that
 #'   had split between modes (R-hat 1.53) all joined the one chain in the
-#'   main mode when restarted from it. When the minor mode put a
-#'   calibration parameter outside the fit's 90 % interval the message says
-#'   so: such modes can be the emulator's error rather than the data's, and
-#'   the emulator can check out at the main mode while being wrong between
-#'   the modes (a year of daily data, `bench/RESULTS.md`), so refit with
-#'   `"keep"` and run [validate_emulator()] over every mode.
+#'   main mode when restarted from it. In stage 2 of a modular fit, a
+#'   minor mode that puts a calibration parameter outside the main mode's
+#'   90 % interval is kept instead (`fit$settings$kept_moved`), with a
+#'   message naming the parameters: with the emulator fixed, such modes can
+#'   be the emulator's error rather than the data's, and the emulator can
+#'   check out at the main mode while being wrong between the modes (a year
+#'   of daily data, `bench/RESULTS.md`: the truth lay between them). The fit
+#'   then fails [check_convergence()], whose hint says to check the
+#'   emulator over both modes with [validate_emulator()] and add runs there
+#'   with [design_posterior()]. A joint fit drops such chains and its
+#'   message says to refit with `"keep"` and check the emulator.
 #' @param progress Show a progress bar over all chains while sampling
 #'   (Stan's own per-chain iteration lines are not printed). The default is
 #'   the option `bayesbem.progress`, `TRUE` unless set.
@@ -145,17 +151,19 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
     if (structure == "grid") stanmodels$koh_grid else stanmodels$koh
   label <- sprintf("%s %d chain%s", if (modular) "Stage 2: sampling" else "Sampling", chains,
                    if (chains > 1L) "s" else "")
-  stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label), sampler))
+  stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label, keep_moved = modular),
+                                      sampler))
   fit <- new_koh_fit(stanfit, data = data, priors = priors,
                      settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                                      control = control, structure = structure, modular = modular,
                                      minor_modes = minor_modes,
                                      dropped = dropped_chains(stanfit, emulator),
-                                     restarted = restarted_chains(stanfit, emulator)),
+                                     restarted = restarted_chains(stanfit, emulator),
+                                     kept_moved = attr(stanfit, "kept_moved")),
                      predict_at = if (!is.null(predict_at)) predict_at[data$names$x],
                      emulator = emulator)
   inform_minor_modes(fit$settings$dropped, fit$settings$restarted,
-                     moved_parameters(fit, attr(stanfit, "minor_tf")))
+                     moved_parameters(fit, attr(stanfit, "minor_tf")), fit$settings$kept_moved)
   check_convergence(fit)
   fit
 }
@@ -185,10 +193,12 @@ by_stage <- function(stanfit, emulator, read) {
 # The number of chains whose draws a fit holds.
 kept_chains <- function(fit) fit$settings$chains - length(fit$settings$dropped$fit)
 
-# Tells which chains were dropped or restarted, per stage; `moved` (from
+# Tells which chains were dropped or restarted, per stage, and which
+# stage-2 chains were kept in a minor mode (`kept`); `moved` (from
 # moved_parameters()) lists the calibration parameters the minor mode put
 # elsewhere.
-inform_minor_modes <- function(dropped, restarted = list(), moved = character()) {
+inform_minor_modes <- function(dropped, restarted = list(), moved = character(),
+                               kept = integer(0)) {
   for (stage in union(names(dropped), names(restarted))) {
     from <- restarted[[stage]]$from
     k <- dropped[[stage]] %||% restarted[[stage]]$chains
@@ -209,6 +219,24 @@ inform_minor_modes <- function(dropped, restarted = list(), moved = character())
     cli::cli_inform(c("!" = said, advice),
                     class = "bayesbem_message_minor_modes")
   }
+  if (length(kept) > 0L) {
+    said <- sprintf("Chain%s %s found a minor mode (under e^-5 of the main mode's posterior mass) that puts the calibration parameters elsewhere, and %s kept:",
+                    if (length(kept) > 1L) "s" else "", and_list(kept),
+                    if (length(kept) > 1L) "were" else "was")
+    cli::cli_inform(c("!" = said, stats::setNames(moved, rep("x", length(moved))),
+                      i = kept_modes_advice()),
+                    class = "bayesbem_message_minor_modes")
+  }
+}
+
+# Measured (bench/RESULTS.md, 120 and 365 days): with the emulator fixed at
+# stage 1, stage 2 found two modes of the calibration with the truth between
+# them, and validate_emulator() trusted the emulator at the main mode alone.
+kept_modes_advice <- function() {
+  paste("With the emulator fixed at its stage-1 estimate such a mode can be the emulator's",
+        "error between runs, so the fit keeps it and its chains disagree. Check the emulator",
+        "over both modes with {.fn validate_emulator} and add runs there with",
+        "{.fn design_posterior}.")
 }
 
 # "1", "1 and 2", "1, 2 and 3"
@@ -216,25 +244,19 @@ and_list <- function(k) {
   if (length(k) < 2L) k else paste(paste(utils::head(k, -1L), collapse = ", "), "and", k[length(k)])
 }
 
-# The calibration parameters whose median in the minor mode's chains
-# (`minor_tf`, draws on the [0, 1] scale) lies outside the fit's 90 %
-# interval, one line each in physical units.
+# The calibration parameters that the minor mode put outside the main mode's
+# 90 % interval (`minor_tf`, from minor_mode_tf()), one line each in
+# physical units (every parameter scale is increasing).
 moved_parameters <- function(fit, minor_tf) {
-  if (is.null(minor_tf)) {
+  moved <- moved_tf(minor_tf)
+  if (!any(moved)) {
     return(character())
   }
-  kept <- parameter_draws(fit)
-  away <- unscale_t(matrix(apply(minor_tf, 2, stats::median), 1), fit$data$scaling)[1, ]
-  lines <- vapply(seq_along(away), function(k) {
-    q <- stats::quantile(kept[, k], c(0.05, 0.95), names = FALSE)
-    if (away[k] >= q[1] && away[k] <= q[2]) {
-      return(NA_character_)
-    }
-    sprintf("%s: %s in the minor mode, %s to %s (90%%) in the main mode.",
-            fit$data$names$t[k], format(signif(away[k], 3)), format(signif(q[1], 3)),
-            format(signif(q[2], 3)))
-  }, character(1))
-  lines[!is.na(lines)]
+  physical <- unscale_t(minor_tf, fit$data$scaling)
+  k <- which(moved)
+  sprintf("%s: %s in the minor mode, %s to %s (90%%) in the main mode.", fit$data$names$t[k],
+          signif(physical["median", k], 3), signif(physical["lower", k], 3),
+          signif(physical["upper", k], 3))
 }
 
 # The iterations and sampler control of a fit whose caller gives none,
@@ -464,7 +486,7 @@ print.summary.koh_fit <- function(x, ...) {
               if (isTRUE(st$modular)) ", modular" else ""))
   cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions%s\n\n",
               st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent,
-              minor_modes_label(st$dropped, st$restarted)))
+              minor_modes_label(st$dropped, st$restarted, st$kept_moved)))
   cat("Calibration parameters (physical units):\n")
   print_summary_table(x$parameters)
   cat("\nGaussian-process hyperparameters (standardised scale):\n")
@@ -475,8 +497,9 @@ print.summary.koh_fit <- function(x, ...) {
   invisible(x)
 }
 
-# The chains dropped or restarted as stuck in a minor mode, for the summary.
-minor_modes_label <- function(dropped, restarted = list()) {
+# The chains dropped, restarted or kept (stage 2, calibration elsewhere) as
+# stuck in a minor mode, for the summary.
+minor_modes_label <- function(dropped, restarted = list(), kept = integer(0)) {
   chains <- function(stage, k) {
     sprintf("%s%s %s", if (stage == "emulator") "stage-1 " else "",
             if (length(k) > 1L) "chains" else "chain", paste(k, collapse = ", "))
@@ -488,7 +511,8 @@ minor_modes_label <- function(dropped, restarted = list()) {
   paste0(label("dropped", unlist(Map(chains, names(dropped), dropped))),
          label("restarted", unlist(Map(function(stage, r) {
            sprintf("%s from chain %d", chains(stage, r$chains), r$from)
-         }, names(restarted), restarted))))
+         }, names(restarted), restarted))),
+         label("kept", if (length(kept) > 0L) paste(chains("fit", kept), "(calibration elsewhere)")))
 }
 
 # Prints a summary table with one row per variable (the row names). Each

@@ -59,6 +59,16 @@ test_that("chains that disagree only on the emulator's hyperparameters get their
   }
 })
 
+test_that("chains kept in a minor mode of the calibration get their own hint", {
+  withr::local_options(cli.num_colors = 1)
+  conv <- check_convergence(seb_fit, ess_min = 1, warn = FALSE)
+  expect_identical(attr(conv, "kept_moved"), integer(0))
+  conv$rhat <- 1
+  conv$rhat[conv$variable == "equipment_power_density"] <- 1.3
+  attr(conv, "kept_moved") <- 2:3
+  expect_snapshot(bayesbem:::warn_convergence(conv))
+})
+
 test_that("a fit that hits the maximum tree depth says so, and rstan's own warnings are not shown", {
   skip_on_cran()
   warnings <- list()

@@ -52,6 +52,89 @@ test_that("chains stuck in a mode of far lower posterior mass are found", {
   expect_equal(bayesbem:::minor_mode_chains(draws[1:4, , ]), none)
 })
 
+# mode_draws() with two calibration parameters in front: tf[1] around 0.5
+# and tf[2] around 0.3 in every chain but those in `elsewhere`, whose tf[1]
+# sits around 0.9.
+tf_mode_draws <- function(height, elsewhere = integer(0)) {
+  d <- mode_draws(height, rep(1, 4))
+  out <- array(0, dim(d) + c(0, 0, 2), list(NULL, NULL, c("tf[1]", "tf[2]", dimnames(d)[[3]])))
+  out[, , -(1:2)] <- d
+  for (k in 1:4) {
+    z <- withr::with_seed(10 + k, matrix(stats::rnorm(800, sd = 0.2), 400))
+    out[, k, "tf[1]"] <- stats::plogis(stats::qlogis(if (k %in% elsewhere) 0.9 else 0.5) + z[, 1])
+    out[, k, "tf[2]"] <- stats::plogis(stats::qlogis(0.3) + z[, 2])
+  }
+  out
+}
+
+test_that("a stage-2 minor mode that puts the calibration elsewhere is kept", {
+  draws <- tf_mode_draws(c(0, 0.5, -30, 0.2), elsewhere = 3L)
+  # where the minor chain put the calibration, against the other chains
+  minor_tf <- bayesbem:::minor_mode_tf(draws, 3L)
+  expect_equal(minor_tf["median", ], c(`tf[1]` = median(draws[, 3, "tf[1]"]),
+                                      `tf[2]` = median(draws[, 3, "tf[2]"])))
+  expect_equal(minor_tf[c("lower", "upper"), "tf[1]"],
+               c(lower = unname(quantile(draws[, -3, "tf[1]"], 0.05)),
+                 upper = unname(quantile(draws[, -3, "tf[1]"], 0.95))))
+  expect_equal(bayesbem:::moved_tf(minor_tf), c(`tf[1]` = TRUE, `tf[2]` = FALSE))
+  # a joint fit (or stage 1) drops it; stage 2 keeps it
+  joint <- bayesbem:::settle_minor_modes(draws, integer(4))
+  expect_equal(joint[c("drop", "restart", "kept")],
+               list(drop = 3L, restart = integer(0), kept = integer(0)))
+  expect_equal(joint$minor_tf, minor_tf)
+  stage2 <- bayesbem:::settle_minor_modes(draws, integer(4), keep_moved = TRUE)
+  expect_equal(stage2[c("drop", "restart", "kept")],
+               list(drop = integer(0), restart = integer(0), kept = 3L))
+  # a minor mode with the calibration in place is dropped in stage 2 too
+  same <- tf_mode_draws(c(0, 0.5, -30, 0.2))
+  expect_equal(bayesbem:::settle_minor_modes(same, integer(4), keep_moved = TRUE)$drop, 3L)
+  # chains that would have been restarted from a lone chain are kept
+  lone <- bayesbem:::settle_minor_modes(tf_mode_draws(c(0, -30, -30, -30), elsewhere = 2:4),
+                                        integer(4), keep_moved = TRUE)
+  expect_equal(lone[c("drop", "restart", "kept")],
+               list(drop = integer(0), restart = integer(0), kept = 2:4))
+  expect_null(lone$from)
+  # no minor chain, or no calibration parameter (stage 1): nothing to place
+  expect_null(bayesbem:::minor_mode_tf(draws, integer(0)))
+  expect_null(bayesbem:::minor_mode_tf(draws[, , -(1:2)], 3L))
+  expect_identical(bayesbem:::moved_tf(NULL), logical(0))
+})
+
+test_that("chains kept in a minor mode are reported in the message, summary and hint", {
+  skip_on_cran()
+  withr::local_options(cli.num_colors = 1)
+  # stage 2 keeps chain 2, whose mode put every calibration parameter at the
+  # bottom of its range
+  settle <- bayesbem:::settle_minor_modes
+  utils::assignInNamespace("settle_minor_modes", function(draws, divergent, keep_moved = FALSE) {
+    tf <- grep("^tf\\[", dimnames(draws)[[3]], value = TRUE)
+    list(drop = integer(0), restart = integer(0), from = NULL,
+         kept = if (keep_moved) 2L else integer(0),
+         minor_tf = if (keep_moved) rbind(median = rep(0.001, length(tf)), lower = 0.4, upper = 0.6))
+  }, "bayesbem")
+  withr::defer(utils::assignInNamespace("settle_minor_modes", settle, "bayesbem"))
+  messages <- list()
+  w <- expect_warning(
+    withCallingHandlers(
+      fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 150, seed = 5, cores = 2,
+                       modular = TRUE, control = list(adapt_delta = 0.9)),
+      bayesbem_message_minor_modes = function(m) {
+        messages[[length(messages) + 1L]] <<- conditionMessage(m)
+        invokeRestart("muffleMessage")
+      }),
+    class = "bayesbem_warning_convergence")
+  expect_length(messages, 1)
+  expect_match(messages[[1]], "Chain 2 found a minor mode .* and was kept")
+  low <- bayesbem:::unscale_t1(0.001, fit$data$scaling, 1)
+  expect_match(messages[[1]], sprintf("%s: %s in the minor mode", fit$data$names$t[1], signif(low, 3)),
+               fixed = TRUE)
+  expect_equal(fit$settings$kept_moved, 2L)
+  expect_equal(dim(as.array(fit$stanfit))[2], 2L)
+  expect_match(conditionMessage(w), "Chain 2 was kept in a minor mode")
+  expect_match(capture.output(print(summary(fit)))[2], "kept (minor mode): chain 2 (calibration elsewhere)",
+               fixed = TRUE)
+})
+
 test_that("restarted chains start from the main mode's draws and are reported", {
   skip_on_cran()
   d <- koh_data(seb_field, seb_sim)
@@ -100,19 +183,24 @@ test_that("draws go to Stan's unconstrained scale, parameters block only", {
 })
 
 test_that("dropped and restarted chains are named in the message and the summary", {
-  expect_message(bayesbem:::inform_minor_modes(list(emulator = 2L, fit = c(1L, 4L))),
+  # one message per stage
+  expect_message(expect_message(bayesbem:::inform_minor_modes(list(emulator = 2L, fit = c(1L, 4L))),
+                                class = "bayesbem_message_minor_modes"),
                  class = "bayesbem_message_minor_modes")
   expect_snapshot(bayesbem:::inform_minor_modes(list(emulator = 2L, fit = c(1L, 4L))))
   moved <- "fan_total_efficiency: 0.45 in the minor mode, 0.61 to 0.86 (90%) in the main mode."
   expect_snapshot(bayesbem:::inform_minor_modes(list(fit = 3L), moved = moved))
   expect_snapshot(bayesbem:::inform_minor_modes(list(), list(fit = list(chains = 2:4, from = 1L)),
                                                 moved))
+  expect_snapshot(bayesbem:::inform_minor_modes(list(emulator = 2L), moved = moved, kept = 2:3))
   expect_equal(bayesbem:::minor_modes_label(list(emulator = 2L, fit = 3L)),
                "; dropped (minor mode): stage-1 chain 2; chain 3")
   expect_equal(bayesbem:::minor_modes_label(list(emulator = 3L),
                                             list(fit = list(chains = c(1L, 3L), from = 2L))),
                "; dropped (minor mode): stage-1 chain 3; restarted (minor mode): chains 1, 3 from chain 2")
   expect_equal(bayesbem:::minor_modes_label(list()), "")
+  expect_equal(bayesbem:::minor_modes_label(list(emulator = 1L), kept = 2:3),
+               "; dropped (minor mode): stage-1 chain 1; kept (minor mode): chains 2, 3 (calibration elsewhere)")
 })
 
 test_that("the calibration parameters a minor mode put elsewhere are named", {
@@ -120,17 +208,18 @@ test_that("the calibration parameters a minor mode put elsewhere are named", {
   physical <- bayesbem:::parameter_draws(seb_fit)
   # the minor mode at the fit's medians, but the first parameter at the
   # bottom of its range, outside the fit's 90 % interval
-  at <- rep(apply(tf, 2, median), each = 10)
-  minor <- matrix(at, 10)
-  minor[, 1] <- 0.001
-  moved <- bayesbem:::moved_parameters(seb_fit, minor)
+  minor_tf <- rbind(median = apply(tf, 2, median), lower = apply(tf, 2, quantile, 0.05),
+                    upper = apply(tf, 2, quantile, 0.95))
+  expect_identical(bayesbem:::moved_parameters(seb_fit, minor_tf), character())
+  minor_tf["median", 1] <- 0.001
+  moved <- bayesbem:::moved_parameters(seb_fit, minor_tf)
   expect_length(moved, 1)
-  name <- colnames(physical)[1]
-  expect_match(moved, paste0("^", name, ": "))
   low <- bayesbem:::unscale_t1(0.001, seb_fit$data$scaling, 1)
   expect_lt(low, quantile(physical[, 1], 0.05))
-  expect_match(moved, format(signif(low, 3)), fixed = TRUE)
-  expect_identical(bayesbem:::moved_parameters(seb_fit, matrix(at, 10)), character())
+  expect_equal(moved, sprintf("%s: %s in the minor mode, %s to %s (90%%) in the main mode.",
+                              colnames(physical)[1], signif(low, 3),
+                              signif(quantile(physical[, 1], 0.05, names = FALSE), 3),
+                              signif(quantile(physical[, 1], 0.95, names = FALSE), 3)))
   expect_identical(bayesbem:::moved_parameters(seb_fit, NULL), character())
 })
 
