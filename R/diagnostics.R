@@ -133,10 +133,7 @@ warn_convergence <- function(conv) {
     all(union(high_rhat, low_ess) %in% attr(conv, "emulator"))
   kept <- attr(conv, "kept_moved")
   hint <- if (length(kept) > 0L) {
-    c(i = paste(sprintf("Chain%s %s %s kept in a minor mode that puts the calibration parameters elsewhere.",
-                        if (length(kept) > 1L) "s" else "", and_list(kept),
-                        if (length(kept) > 1L) "were" else "was"),
-                kept_modes_advice()))
+    c(i = paste0(kept_modes_said(kept), ". ", kept_modes_advice()))
   } else if (emulator_only) emulator_modes_hint() else
     c(i = paste("Run more iterations (e.g. double {.arg iter}); for divergences",
                 "raise {.code control = list(adapt_delta = 0.995)}, for tree depth",

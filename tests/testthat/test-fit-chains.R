@@ -124,7 +124,7 @@ test_that("chains kept in a minor mode are reported in the message, summary and 
       }),
     class = "bayesbem_warning_convergence")
   expect_length(messages, 1)
-  expect_match(messages[[1]], "Chain 2 found a minor mode .* and was kept")
+  expect_match(messages[[1]], "Chain 2 was kept in a minor mode .* elsewhere:")
   low <- bayesbem:::unscale_t1(0.001, fit$data$scaling, 1)
   expect_match(messages[[1]], sprintf("%s: %s in the minor mode", fit$data$names$t[1], signif(low, 3)),
                fixed = TRUE)
