@@ -16,8 +16,9 @@
 # whose calibration parameters alone pass the same R-hat and ESS rule
 # (`tf_converged`: the chains may still disagree on the emulator's
 # hyperparameters), median wall time, the worst R-hat's variable, the mean
-# leapfrog steps per iteration, and the parameters put on a log or
-# reciprocal scale.
+# leapfrog steps per sampling and per warm-up iteration and the chains'
+# summed seconds (stage 2 of a modular fit), and the parameters put on a log
+# or reciprocal scale.
 # With BENCH_REFINE=r (r > 0) each problem is then refined once, as the
 # verdict of validate_emulator() advises: r runs from design_posterior() on
 # the first fit, added to the mt runs, and a second fit, reported as size
@@ -59,6 +60,16 @@ one_problem <- function(n, mt, k) {
   rbind(first, evaluate(refit, problem$truth, n, mt + refine, k, wall + wall2))
 }
 
+# Mean leapfrog steps per iteration of the fit's (stage-2) chains, in
+# `phase` ("warmup" or "sampling").
+leapfrog_steps <- function(fit, phase) {
+  steps <- lapply(rstan::get_sampler_params(fit$stanfit, inc_warmup = TRUE), function(s) {
+    warm <- seq_len(fit$settings$warmup)
+    s[if (phase == "warmup") warm else -warm, "n_leapfrog__"]
+  })
+  round(mean(unlist(steps)), 1)
+}
+
 evaluate <- function(fit, truth, n, mt, k, wall) {
   conv <- check_convergence(fit, warn = FALSE)
   sampler <- attr(conv, "sampler")
@@ -77,9 +88,11 @@ evaluate <- function(fit, truth, n, mt, k, wall) {
              tf_converged = passes(conv$variable %in% names(truth)),
              min_ess = min(conv$ess_bulk, conv$ess_tail), divergent = sampler$divergent,
              treedepth_hits = sampler$treedepth_hits,
-             # mean leapfrog steps per sampling iteration (stage 2 of a modular fit)
-             leapfrog = round(mean(vapply(rstan::get_sampler_params(fit$stanfit, inc_warmup = FALSE),
-                                          function(s) mean(s[, "n_leapfrog__"]), numeric(1))), 1),
+             # mean leapfrog steps per sampling and per warm-up iteration, and
+             # the chains' seconds summed (stage 2 of a modular fit)
+             leapfrog = leapfrog_steps(fit, "sampling"),
+             warmup_leapfrog = leapfrog_steps(fit, "warmup"),
+             chain_s = round(sum(rstan::get_elapsed_time(fit$stanfit))),
              dropped = paste(unlist(fit$settings$dropped), collapse = " "),
              # parameters koh_data(scales = "auto") took off the identity
              scales = paste(names(Filter(function(s) s != "identity", fit$data$scaling$t_scale)),
