@@ -168,11 +168,10 @@ chain_divergences <- function(fits) {
 }
 
 # Starting values for `n` chains from the parameters-block draws of a
-# one-chain stanfit (the names its own inits have), at iterations spread
-# over its second half.
+# one-chain stanfit, at iterations spread over its second half.
 restart_inits <- function(fit, n) {
   draws <- as.array(fit)[, 1, ]
-  pars <- names(rstan::get_inits(fit)[[1]])
+  pars <- intersect(names(fit@par_dims), unlist(parameter_block(), use.names = FALSE))
   base <- sub("\\[.*$", "", colnames(draws))
   rows <- round(seq(nrow(draws) / 2, nrow(draws), length.out = n))
   lapply(rows, function(i) {
@@ -185,20 +184,19 @@ restart_inits <- function(fit, n) {
   })
 }
 
-# The names of the package's parameters (the parameters blocks of
-# koh_parameters.stan, koh_emulator.stan and koh.stan; koh_modular.stan's
-# transformed parameters from its whitened z), by Stan's transform to the
-# unconstrained scale: logit for the (0, 1) parameters, log for the
-# precisions, none for the rest.
+# The names in the parameters blocks of the package's Stan programs
+# (koh_parameters.stan, koh_emulator.stan, koh_modular.stan, koh.stan), by
+# Stan's transform to the unconstrained scale: logit for the (0, 1)
+# parameters, log for the precisions, none for the rest.
 parameter_block <- function() {
   list(logit = c("tf", "rho_eta", "rho_delta"),
        log = c("lambda_eta", "lambda_delta", "lambda_e"),
        identity = c("b", "gamma", "y_pred"))
 }
 
-# A chain's draws of the package's parameters (parameter_block()) on Stan's
-# unconstrained scale; the other variables (beta_delta, stage 2's whitened
-# z and its u) are left out.
+# A chain's draws of the parameters block on Stan's unconstrained scale
+# (parameter_block()); transformed parameters and generated quantities are
+# left out.
 unconstrained_draws <- function(draws) {
   base <- sub("\\[.*$", "", colnames(draws))
   block <- parameter_block()

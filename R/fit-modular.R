@@ -42,10 +42,9 @@ fit_emulator <- function(data, priors, sampler) {
        b = medians[["b"]] %||% numeric())
 }
 
-# The data of koh_modular.stan: the field data, the priors, the fixed
+# The data of koh_modular.stan: the field data, the priors, and the fixed
 # emulator's pieces (the runs at the field inputs less the emulator mean,
-# the field block of Kx, the Cholesky factor of Kt), and the unit whitening
-# (whiten_stage2() sets another).
+# the field block of Kx, the Cholesky factor of Kt).
 modular_stan_data <- function(data, priors, emulator) {
   grid <- data$grid
   n <- data$n
@@ -57,16 +56,10 @@ modular_stan_data <- function(data, priors, emulator) {
   beta_t <- emulator$beta_eta[-seq_len(p)]
   E <- grid_runs(data)[seq_len(n), , drop = FALSE]
   kt <- jittered_cor(pair_geometry(grid$design, grid$design), beta_t, priors$nugget)
-  stan_data <- c(
-    list(n = n, mt = grid$mt, p = p, q = data$q, y = data$y, xf = xf, tc = grid$design),
+  c(list(n = n, mt = grid$mt, p = p, q = data$q, y = data$y, xf = xf, tc = grid$design),
     koh_prior_data(data, priors),
     list(beta_eta_fixed = as.array(emulator$beta_eta), lambda_eta_fixed = emulator$lambda_eta,
          b_fixed = as.array(emulator$b), E_f = E - grid_mean(xf, grid$design, coef),
          Kx_ff = jittered_cor(pair_geometry(xf, xf), beta_x, priors$nugget),
-         Lt = t(chol(kt)))
-  )
-  c(stan_data, unit_whitening(sum(stage2_layout(stan_data))))
+         Lt = t(chol(kt))))
 }
-
-# u = z: the unwhitened stage 2 of d parameters.
-unit_whitening <- function(d) list(u_loc = numeric(d), u_scale = diag(d))

@@ -149,12 +149,6 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                   structure)
   model <- if (modular) stanmodels$koh_modular else
     if (structure == "grid") stanmodels$koh_grid else stanmodels$koh
-  if (modular) {
-    whitened <- whiten_stage2(model, stan_data, stage2_starts(sampler$args$init, sampler$args$init_r,
-                                                              chains, seed, stan_data))
-    stan_data <- whitened$data
-    sampler$args$init <- whitened$inits
-  }
   label <- sprintf("%s %d chain%s", if (modular) "Stage 2: sampling" else "Sampling", chains,
                    if (chains > 1L) "s" else "")
   stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label, keep_moved = modular),

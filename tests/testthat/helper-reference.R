@@ -88,7 +88,7 @@ random_koh_pars <- function(sd) {
        b = as.array(stats::rnorm(sd$n_b)))
 }
 
-# The compiled KOH model (a name of stanmodels) with data `sd`, without
+# The compiled KOH model ("koh" or "koh_grid") with data `sd`, without
 # sampling, for log_prob().
 koh_model_for <- function(sd, program = "koh") {
   utils::capture.output(
@@ -100,18 +100,6 @@ koh_model_for <- function(sd, program = "koh") {
 # Stan's log density (priors included, no Jacobian) at constrained `pars`.
 stan_log_density <- function(model, pars) {
   rstan::log_prob(model, rstan::unconstrain_pars(model, pars), adjust_transform = FALSE)
-}
-
-# The same for stage 2 (koh_modular.stan with the unit whitening of
-# modular_stan_data(), so z = u): Stan's log density at z = u less the
-# Jacobian the program adds, here log(x (1 - x)) for each (0, 1) parameter
-# and log(x) for each precision.
-stage2_log_density <- function(model, pars) {
-  u <- c(qlogis(pars$tf), qlogis(pars$rho_delta), log(pars$lambda_delta), log(pars$lambda_e),
-         pars$gamma)
-  jacobian <- sum(log(pars$tf * (1 - pars$tf))) + sum(log(pars$rho_delta * (1 - pars$rho_delta))) +
-    log(pars$lambda_delta) + log(pars$lambda_e)
-  rstan::log_prob(model, u) - jacobian
 }
 
 # Brute-force conditional of (eta(x_new, tf), delta(x_new)) given z: the

@@ -100,14 +100,14 @@ expect_gradient_matches <- function(d) {
   grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
   pars <- random_koh_pars(bayesbem:::koh_stan_data(d, priors, structure = "dense"))
   emulator <- list(beta_eta = -4 * log(pars$rho_eta), lambda_eta = pars$lambda_eta, b = pars$b)
-  stage2 <- bayesbem:::modular_stan_data(d, priors, emulator)
-  models <- list(koh_grid = koh_model_for(grid, "koh_grid"),
-                 koh_modular = koh_model_for(stage2, "koh_modular"))
-  points <- list(koh_grid = rstan::unconstrain_pars(models$koh_grid, pars[names(pars) != "y_pred"]),
-                 koh_modular = bayesbem:::stage2_unconstrain(pars, stage2))
+  models <- list(
+    koh_grid = list(sd = grid, pars = pars[names(pars) != "y_pred"]),
+    koh_modular = list(sd = bayesbem:::modular_stan_data(d, priors, emulator),
+                       pars = pars[c("tf", "rho_delta", "lambda_delta", "lambda_e", "gamma")])
+  )
   for (program in names(models)) {
-    model <- models[[program]]
-    upars <- points[[program]]
+    model <- koh_model_for(models[[program]]$sd, program)
+    upars <- rstan::unconstrain_pars(model, models[[program]]$pars)
     numeric_grad <- vapply(seq_along(upars), function(k) {
       h <- 1e-5 * replace(numeric(length(upars)), k, 1)
       (rstan::log_prob(model, upars + h) - rstan::log_prob(model, upars - h)) / 2e-5
