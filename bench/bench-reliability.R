@@ -89,7 +89,8 @@ evaluate <- function(fit, truth, n, mt, k, wall) {
              min_ess = min(conv$ess_bulk, conv$ess_tail), divergent = sampler$divergent,
              treedepth_hits = sampler$treedepth_hits,
              # mean leapfrog steps per sampling and per warm-up iteration, and
-             # the chains' seconds summed (stage 2 of a modular fit)
+             # the chains' seconds summed (stage 2 of a modular fit; a chain
+             # restarted from a lone main mode counts its second run only)
              leapfrog = leapfrog_steps(fit, "sampling"),
              warmup_leapfrog = leapfrog_steps(fit, "warmup"),
              chain_s = round(sum(rstan::get_elapsed_time(fit$stanfit))),
