@@ -61,12 +61,14 @@ one_problem <- function(n, mt, k) {
 }
 
 # Mean leapfrog steps per iteration of the fit's (stage-2) chains, in
-# `phase` ("warmup" or "sampling").
+# `phase` ("warmup" or "sampling"; NaN when warm-up was not saved).
 leapfrog_steps <- function(fit, phase) {
-  steps <- lapply(rstan::get_sampler_params(fit$stanfit, inc_warmup = TRUE), function(s) {
-    warm <- seq_len(fit$settings$warmup)
-    s[if (phase == "warmup") warm else -warm, "n_leapfrog__"]
-  })
+  all <- rstan::get_sampler_params(fit$stanfit, inc_warmup = TRUE)
+  kept <- rstan::get_sampler_params(fit$stanfit, inc_warmup = FALSE)
+  steps <- Map(function(a, k) {
+    warm <- seq_len(nrow(a) - nrow(k))
+    if (phase == "sampling") k[, "n_leapfrog__"] else a[warm, "n_leapfrog__"]
+  }, all, kept)
   round(mean(unlist(steps)), 1)
 }
 
