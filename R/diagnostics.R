@@ -1,10 +1,12 @@
 #' Convergence diagnostics of a KOH fit
 #'
-#' Computes, for every parameter (calibration parameters in physical units,
-#' GP hyperparameters), the rank-normalised split R-hat and the bulk and tail
-#' effective sample sizes of the posterior package, and from the sampler the
-#' number of divergent transitions, of iterations that hit the maximum tree
-#' depth, and the E-BFMI of each chain. Raises one warning of class
+#' Computes, for every sampled parameter (calibration parameters in physical
+#' units, GP hyperparameters; a modular fit's emulator hyperparameters are
+#' fixed at their stage-1 mode and left out), the rank-normalised split
+#' R-hat and the bulk and tail effective sample sizes of the posterior
+#' package, and from the sampler the number of divergent transitions, of
+#' iterations that hit the maximum tree depth, and the E-BFMI of each
+#' chain. Raises one warning of class
 #' `bayesbem_warning_convergence`, with a plain-language hint, when any
 #' R-hat is at least `rhat_max`, any ESS is below `ess_min`, any transition
 #' diverged, any iteration hit the maximum tree depth, or any chain's E-BFMI
@@ -12,8 +14,8 @@
 #' (rstan's own, unclassed warnings of these kinds are not shown).
 #'
 #' When every parameter that fails is one of the emulator's hyperparameters
-#' (`beta_eta`, `lambda_eta`, the mean's `b`) and the sampler had no
-#' trouble, the hint says so and advises runs where the posterior lies
+#' (`beta_eta`, `lambda_eta`, the mean's `b`; sampled in a joint fit only)
+#' and the sampler had no trouble, the hint says so and advises runs where the posterior lies
 #' ([design_posterior()]). Measured
 #' (`bench/RESULTS.md`): with 12 months and 10 runs, 4 of 10 synthetic fits
 #' failed only there, with the calibration parameters converged in all 10;
@@ -42,6 +44,11 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
   ess_min <- ess_min %||% (100 * kept_chains(fit))
   s <- summarise_fit(fit, rhat = posterior::rhat, ess_bulk = posterior::ess_bulk,
                      ess_tail = posterior::ess_tail)
+  # a modular fit's emulator is fixed at its stage-1 mode, not sampled
+  if (!is.null(fit$emulator)) {
+    s <- s[!s$variable %in% emulator_variables(fit), , drop = FALSE]
+    rownames(s) <- NULL
+  }
   sampler <- fit_sampler_diagnostics(fit)
   s$ok <- s$rhat < rhat_max & s$ess_bulk >= ess_min & s$ess_tail >= ess_min
   out <- structure(s, class = c("koh_convergence", "data.frame"), sampler = sampler,
@@ -60,29 +67,9 @@ emulator_variables <- function(fit) {
   c(names$beta_eta, "lambda_eta", names$b)
 }
 
-# Stage-1 draws of a modular fit's emulator hyperparameters, named as in
-# as_draws_array.koh_fit().
-emulator_draws <- function(fit) {
-  d <- fit$data
-  b_names <- mean_term_names(fit$priors, d)
-  arr <- as.array(fit$emulator$stanfit,
-                  pars = c("beta_eta", "lambda_eta", if (length(b_names) > 0L) "b"))
-  names <- emulator_draw_names(d, b_names)
-  dimnames(arr)[[3]] <- c(names$beta_eta, "lambda_eta", names$b)
-  posterior::as_draws_array(arr)
-}
-
-# The sampler's problems in a fit; for a modular fit, in both stages:
-# divergences and tree-depth hits add up, every chain's E-BFMI is kept.
-fit_sampler_diagnostics <- function(fit) {
-  a <- sampler_diagnostics(fit$stanfit)
-  if (is.null(fit$emulator)) {
-    return(a)
-  }
-  b <- sampler_diagnostics(fit$emulator$stanfit)
-  list(divergent = a$divergent + b$divergent, treedepth_hits = a$treedepth_hits + b$treedepth_hits,
-       max_treedepth = a$max_treedepth, ebfmi = c(b$ebfmi, a$ebfmi))
-}
+# The sampler's problems in a fit (stage 2 of a modular fit, whose stage 1
+# is a mode search).
+fit_sampler_diagnostics <- function(fit) sampler_diagnostics(fit$stanfit)
 
 sampler_diagnostics <- function(stanfit) {
   sp <- rstan::get_sampler_params(stanfit, inc_warmup = FALSE)

@@ -84,7 +84,7 @@ settle_minor_modes <- function(draws, divergent, keep_moved = FALSE) {
 # Where the chains `minor` put the calibration parameters, against the other
 # chains: a 3 x q matrix (columns tf[1], ..., on the [0, 1] scale) of the
 # minor chains' median and the other chains' 5 % and 95 % quantiles; NULL
-# without minor chains or calibration parameters (stage 1).
+# without minor chains or calibration parameters.
 minor_mode_tf <- function(draws, minor) {
   tf <- grep("^tf\\[", dimnames(draws)[[3]], value = TRUE)
   if (length(minor) == 0L || length(tf) == 0L) {

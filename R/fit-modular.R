@@ -1,11 +1,16 @@
 # The modular KOH fit (Liu, Bayarri & Berger 2009, "Modularization in
 # Bayesian analysis, with emphasis on analysis of computer models"): stage 1
-# learns the emulator's hyperparameters from the simulation runs alone
-# (inst/stan/koh_emulator.stan), stage 2 calibrates tf, the discrepancy and
-# the noise with the emulator fixed at the stage-1 posterior medians
-# (inst/stan/koh_modular.stan). Cutting the feedback from the field data to
-# the emulator removes the emulator modes that the field data favour at
-# large n, and makes each stage-2 gradient one n x n Cholesky factor.
+# estimates the emulator's hyperparameters from the simulation runs alone
+# by the mode of their posterior (inst/stan/koh_emulator.stan), stage 2
+# calibrates tf, the discrepancy and the noise with the emulator fixed there
+# (inst/stan/koh_modular.stan), the "plug-in" emulator of Bayarri et al.
+# (2007, "A framework for validation of computer models"). Cutting the
+# feedback from the field data to the emulator removes the emulator modes
+# that the field data favour at large n, and makes each stage-2 gradient one
+# n x n Cholesky factor. A mode rather than draws: with few runs the
+# posterior of the length scales has modes of equal mass that chains cross
+# once in thousands of draws (bench/RESULTS.md), so no fit that samples
+# them passes R-hat, while the calibration agrees across them.
 
 # Stage 1 on at most `max_inputs` of the grid inputs (evenly spaced over the
 # field inputs, then the further ones): the length scales of x are learnt
@@ -28,18 +33,68 @@ emulator_stan_data <- function(data, priors) {
   stan_data
 }
 
-# Samples stage 1 and returns its stanfit and the emulator estimate: the
-# posterior medians of beta_eta, lambda_eta and b.
-fit_emulator <- function(data, priors, sampler) {
+# Stage 1: the emulator at the posterior mode of its hyperparameters given
+# the runs (emulator_mode()), as calibrate() stores it in `fit$emulator`:
+# `beta_eta`, `lambda_eta`, `b`, the mode's log density `lp` and the log
+# densities each search reached (`searches`). When no search can start
+# (the density fails at every start), `on_failure(messages)` is called, as
+# for a chain that cannot start.
+fit_emulator <- function(data, priors, seed, on_failure, starts = 16L) {
   stan_data <- emulator_stan_data(data, priors)
-  stanfit <- do.call(sample_chains, c(list(stanmodels$koh_emulator, stan_data,
-                                           label = "Stage 1: emulator"), sampler))
-  pars <- c("beta_eta", "lambda_eta", if (stan_data$n_b > 0L) "b")
-  medians <- lapply(stats::setNames(nm = pars), function(par) {
-    apply(as.matrix(stanfit, pars = par), 2, stats::median)
-  })
-  list(stanfit = stanfit, beta_eta = medians$beta_eta, lambda_eta = medians$lambda_eta,
-       b = medians[["b"]] %||% numeric())
+  # rstan says that 0 chains sample nothing
+  utils::capture.output(suppressMessages(
+    instance <- rstan::sampling(stanmodels$koh_emulator, data = stan_data, chains = 0L)
+  ))
+  mode <- emulator_mode(instance, starts, seed)
+  if (!is.finite(mode$lp)) {
+    on_failure(sprintf("Stage 1: the emulator's log density failed at all %d starting points.",
+                       starts))
+  }
+  values <- rstan::constrain_pars(instance, mode$u)
+  list(beta_eta = as.numeric(values$beta_eta), lambda_eta = values$lambda_eta,
+       b = as.numeric(values$b %||% numeric()), lp = mode$lp, searches = mode$searches)
+}
+
+# The highest mode of a model instance's log density on Stan's unconstrained
+# scale, Jacobian included (where the Beta priors on rho keep every mode
+# inside (0, 1); on the constrained scale the Beta(1, 0.3) density is
+# unbounded at rho = 1), by BFGS from `starts` points drawn as Stan draws
+# its inits, U(-2, 2). Returns `u`, its log density `lp` (-Inf when no
+# search could start) and the log density each search reached (`searches`).
+emulator_mode <- function(instance, starts, seed) {
+  d <- rstan::get_num_upars(instance)
+  inits <- with_seed(seed, matrix(stats::runif(d * starts, -2, 2), d))
+  climbs <- lapply(seq_len(starts), function(k) climb_log_prob(instance, inits[, k]))
+  lp <- vapply(climbs, `[[`, numeric(1), "lp")
+  best <- which.max(lp)
+  list(u = climbs[[best]]$u, lp = lp[best], searches = lp)
+}
+
+# The mode reached by BFGS from `u` and its log density (-Inf when the
+# density cannot be evaluated at `u`). Where the density or its gradient
+# fails (a Cholesky factor near singular) the search is turned back.
+climb_log_prob <- function(instance, u) {
+  log_density <- function(x) {
+    v <- tryCatch(rstan::log_prob(instance, x), error = function(e) -Inf)
+    if (is.finite(v)) v else -1e300
+  }
+  gradient <- function(x) {
+    g <- tryCatch(rstan::grad_log_prob(instance, x), error = function(e) NA)
+    if (all(is.finite(g))) as.numeric(g) else numeric(length(x))
+  }
+  if (log_density(u) <= -1e300) {
+    return(list(u = u, lp = -Inf))
+  }
+  res <- stats::optim(u, function(x) -log_density(x), function(x) -gradient(x), method = "BFGS",
+                      control = list(maxit = 1000L, reltol = 1e-12))
+  list(u = res$par, lp = -res$value)
+}
+
+# How many of stage 1's searches reached its mode (within 0.01 of its log
+# density), for the summary: few means other starts could find a higher one.
+emulator_searches_label <- function(searches) {
+  found <- sum(searches >= max(searches) - 0.01)
+  sprintf("%d of %d searches reached it", found, length(searches))
 }
 
 # The data of koh_modular.stan: the field data, the priors, and the fixed

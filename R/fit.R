@@ -13,21 +13,22 @@
 #' @param sim The simulation data frame when `field` is a data frame.
 #' @param priors A [koh_priors()] object.
 #' @param chains,iter Number of Markov chains and iterations per chain
-#'   (including warm-up). By default 4000 iterations for a joint fit and
-#'   2000 for a modular one (see `control`).
+#'   (including warm-up). By default 4000 iterations, and 2000 for a
+#'   modular fit of more than 36 field rows (see `control`).
 #' @param warmup Warm-up iterations per chain; defaults to half of `iter`.
 #' @param seed Random seed; by default one is drawn and stored in the result
 #'   so the fit can be repeated.
 #' @param cores Number of cores to run chains in parallel on.
 #' @param control Sampler control passed to [rstan::sampling()], a list.
-#'   By default `adapt_delta = 0.99` for a joint fit and `0.9` for a
-#'   modular one (Stan's is 0.8): smaller steps, which the curved
-#'   posteriors of GP hyperparameters need to avoid divergences. Measured
-#'   (`bench/RESULTS.md`): on 10 synthetic problems of 12 months x 10 runs,
-#'   4000 iterations at 0.99 converged in 6 to 8 (the count moved with
-#'   the code's floating-point arithmetic) against 3 with 2000 at 0.9; at
-#'   36 months x 30 runs in 10 of 10 against 8 of 10, taking about four times
-#'   longer (4-9 minutes on 2 cores).
+#'   By default `adapt_delta = 0.99`, and 0.9 for a modular fit of more than
+#'   36 field rows (Stan's is 0.8): smaller steps, which the curved
+#'   posteriors of GP hyperparameters and the fan / equipment ridge of the
+#'   case study need to avoid divergences and to mix. Measured
+#'   (`bench/RESULTS.md`): 4000 iterations at 0.99 made 8 of 10 joint fits
+#'   of 12 months x 10 runs converge against 3 with 2000 at 0.9, and 10 of
+#'   10 modular fits of 36 months x 30 runs against 8, at a cost of seconds
+#'   to a minute on 2 cores; above 36 rows the modular stage 2 converged
+#'   with 2000 at 0.9, which costs far less there.
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
 #'   paper's Appendix D; about twice as slow). Read them with
@@ -46,18 +47,24 @@
 #'   is the usual way to add them).
 #' @param modular Fit in two stages (Liu, Bayarri and Berger 2009): the
 #'   emulator's hyperparameters from the simulation runs alone (on at most 60
-#'   of the grid inputs), then the calibration parameters, the discrepancy
-#'   and the noise with the emulator fixed at the stage-1 posterior medians.
+#'   of the grid inputs), at the mode of their posterior, then the
+#'   calibration parameters, the discrepancy and the noise sampled with the
+#'   emulator fixed there (the plug-in emulator of Bayarri et al. 2007).
+#'   The mode is the best of 16 quasi-Newton searches from random starts on
+#'   Stan's unconstrained scale (`fit$emulator` holds it, with the log
+#'   density each search reached; `summary()` says how many reached it).
 #'   The field data then cannot pull the emulator into modes that only
-#'   explain them, and each stage-2 gradient costs one Cholesky factor and
-#'   one inverse of an n x n matrix. Needs a grid design.
-#'   [check_convergence()] judges the emulator's hyperparameters on their
-#'   stage-1 chains (stored in `fit$emulator`). `"auto"` (the default) fits
-#'   in two stages when there are more than 36 field rows on a grid design
-#'   (and `predict_at` is not given), jointly otherwise: in the reliability
-#'   benchmark (`bench/RESULTS.md`) joint fits converged up to 36 months
-#'   but not at 120 days, where the modular fit converged in a tenth of the
-#'   time; with 12 months and 10 runs, stage 1 alone can be bimodal.
+#'   explain them, the length scales' modes of equal mass that few runs
+#'   leave (and that chains seldom cross) do not split the chains, and each
+#'   stage-2 gradient costs one Cholesky factor and one inverse of an
+#'   n x n matrix. The price: the emulator's hyperparameters are not
+#'   integrated over (its uncertainty given them still is). Needs a grid
+#'   design. `"auto"` (the default) fits in two stages on a grid design
+#'   (and `predict_at` not given), jointly otherwise. Measured in the
+#'   reliability benchmark (`bench/RESULTS.md`): modular fits converged in
+#'   more problems than joint ones at every size (12 months x 10 runs: 10
+#'   of 10 against 6 of 10), covered the truth as often, and took a tenth
+#'   of the time.
 #' @param minor_modes What to do with chains stuck in a minor mode of the
 #'   posterior: `"drop"` (the default) deals with them as below, with a
 #'   message; `"keep"` keeps every chain as it ran. Each chain's mode gets a
@@ -118,7 +125,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   check_priors(priors)
   structure <- choose_structure(data, match_choice(structure), predict_at)
   modular <- choose_modular(modular, data, structure)
-  defaults <- default_sampling(modular)
+  defaults <- default_sampling(modular, data$n)
   iter <- iter %||% defaults$iter
   control <- control %||% defaults$control
   check_count(chains)
@@ -143,7 +150,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                   progress = progress, minor_modes = minor_modes, on_failure = function(messages) {
                     abort_sampling_failure(data, priors$nugget, structure, messages, call = fit_env)
                   })
-  emulator <- if (modular) fit_emulator(data, priors, sampler)
+  emulator <- if (modular) fit_emulator(data, priors, seed, sampler$on_failure)
   stan_data <- if (modular) modular_stan_data(data, priors, emulator) else
     koh_stan_data(data, priors, if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at"),
                   structure)
@@ -157,8 +164,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                      settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                                      control = control, structure = structure, modular = modular,
                                      minor_modes = minor_modes,
-                                     dropped = dropped_chains(stanfit, emulator),
-                                     restarted = restarted_chains(stanfit, emulator),
+                                     dropped = attr(stanfit, "dropped"),
+                                     restarted = restarted_chains(stanfit),
                                      kept_moved = attr(stanfit, "kept_moved")),
                      predict_at = if (!is.null(predict_at)) predict_at[data$names$x],
                      emulator = emulator)
@@ -168,56 +175,39 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   fit
 }
 
-# The chains sample_chains() dropped as stuck in a minor mode, per stage.
-dropped_chains <- function(stanfit, emulator) {
-  by_stage(stanfit, emulator, function(s) attr(s, "dropped"))
-}
-
 # The chains sample_chains() ran again from the draws of the one chain in the
-# main mode, per stage: `chains` and `from`.
-restarted_chains <- function(stanfit, emulator) {
-  by_stage(stanfit, emulator, function(s) {
-    if (length(attr(s, "restarted")) > 0L) {
-      list(chains = attr(s, "restarted"), from = attr(s, "restarted_from"))
-    }
-  })
-}
-
-# `read()` of the stage-1 (emulator) and stage-2 (fit) stanfits, named by
-# stage, the empty ones left out.
-by_stage <- function(stanfit, emulator, read) {
-  out <- lapply(list(emulator = emulator$stanfit, fit = stanfit), read)
-  out[lengths(out) > 0L]
+# main mode: `chains` and `from`; NULL when none was.
+restarted_chains <- function(stanfit) {
+  if (length(attr(stanfit, "restarted")) > 0L) {
+    list(chains = attr(stanfit, "restarted"), from = attr(stanfit, "restarted_from"))
+  }
 }
 
 # The number of chains whose draws a fit holds.
-kept_chains <- function(fit) fit$settings$chains - length(fit$settings$dropped$fit)
+kept_chains <- function(fit) fit$settings$chains - length(fit$settings$dropped)
 
-# Tells which chains were dropped or restarted, per stage, and which
-# stage-2 chains were kept in a minor mode (`kept`); `moved` (from
-# moved_parameters()) lists the calibration parameters the minor mode put
-# elsewhere.
-inform_minor_modes <- function(dropped, restarted = list(), moved = character(),
+# Tells which chains were dropped (`dropped`) or run again from the one
+# chain in the main mode (`restarted`, restarted_chains()) as stuck in a
+# minor mode, and which stage-2 chains were kept there (`kept`); `moved`
+# (from moved_parameters()) lists the calibration parameters the minor mode
+# put elsewhere.
+inform_minor_modes <- function(dropped = integer(0), restarted = NULL, moved = character(),
                                kept = integer(0)) {
-  for (stage in union(names(dropped), names(restarted))) {
-    from <- restarted[[stage]]$from
-    k <- dropped[[stage]] %||% restarted[[stage]]$chains
-    done <- if (is.null(from)) "dropped" else
-      sprintf("run again from the draws of chain %d, which alone found the main mode", from)
+  if (length(dropped) > 0L || length(restarted) > 0L) {
+    done <- if (length(restarted) == 0L) "dropped" else
+      sprintf("run again from the draws of chain %d, which alone found the main mode", restarted$from)
     # measured (bench/RESULTS.md, 365 days, problem 3): two modes of the
     # calibration, the truth between them; validate_emulator() trusted the
     # emulator at the kept mode and not over both
-    advice <- if (stage == "fit" && length(moved) > 0L) {
+    advice <- if (length(moved) > 0L) {
       c(stats::setNames(moved, rep("x", length(moved))),
         i = "The emulator can be right at the main mode and wrong between the modes: refit with {.code minor_modes = \"keep\"} and check it over every mode with {.fn validate_emulator}, or add runs with {.fn design_posterior}.")
     } else {
       c(i = "Keep every chain as it ran with {.code minor_modes = \"keep\"}.")
     }
     said <- sprintf("%s stuck in a minor mode (under e^-5 of the main mode's posterior mass) and %s.",
-                    if (stage == "emulator") paste("Stage-1", sub("^C", "c", chains_were(k))) else
-                      chains_were(k), done)
-    cli::cli_inform(c("!" = said, advice),
-                    class = "bayesbem_message_minor_modes")
+                    chains_were(if (length(restarted) == 0L) dropped else restarted$chains), done)
+    cli::cli_inform(c("!" = said, advice), class = "bayesbem_message_minor_modes")
   }
   if (length(kept) > 0L) {
     cli::cli_inform(c("!" = paste0(kept_modes_said(kept), ":"),
@@ -268,25 +258,25 @@ moved_parameters <- function(fit, minor_tf) {
 }
 
 # The iterations and sampler control of a fit whose caller gives none,
-# chosen by measurement (bench/RESULTS.md, reliability): a joint fit's
-# emulator length scales mix slowly and diverge, which 4000 iterations at
-# adapt_delta 0.99 cure in most problems (12 months x 10 runs: 8 of 10
-# converged against 3 of 10 with 2000 at 0.9; 36 months x 30 runs:
-# 10 of 10 against 8 of 10). The modular stage 2 converged with 2000 at 0.9,
-# and costs far more per iteration.
-default_sampling <- function(modular) {
-  if (modular) {
+# chosen by measurement (bench/RESULTS.md, reliability): up to 36 field rows
+# 4000 iterations at adapt_delta 0.99, which a joint fit's emulator length
+# scales need (12 months x 10 runs: 8 of 10 converged against 3 of 10 with
+# 2000 at 0.9) and which the modular stage 2 needs along the fan / equipment
+# ridge at 36 months x 30 runs (10 of 10 against 8 of 10), at a cost of
+# seconds to a minute there; above 36 rows the modular stage 2 converged
+# with 2000 at 0.9 and costs far more per iteration.
+default_sampling <- function(modular, n) {
+  if (modular && n > 36L) {
     return(list(iter = 2000L, control = list(adapt_delta = 0.9)))
   }
   list(iter = 4000L, control = list(adapt_delta = 0.99))
 }
 
-# modular = "auto": two stages for more than `max_joint` field rows on a grid
-# design, the joint fit otherwise (see the @param). TRUE needs a grid.
-choose_modular <- function(modular, data, structure, max_joint = 36L,
-                           call = rlang::caller_env()) {
+# modular = "auto": two stages on a grid design, the joint fit otherwise
+# (see the @param). TRUE needs a grid.
+choose_modular <- function(modular, data, structure, call = rlang::caller_env()) {
   if (identical(modular, "auto")) {
-    return(structure == "grid" && data$n > max_joint)
+    return(structure == "grid")
   }
   if (!rlang::is_bool(modular)) {
     abort_bayesbem("{.arg modular} must be {.code TRUE}, {.code FALSE} or {.val auto}, not {describe_value(modular)}.",
@@ -426,9 +416,11 @@ as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.ko
 #' @param ... Unused.
 #' @return `summary()` returns an object of class `summary.koh_fit`: a list
 #'   with data frames `parameters` and `hyperparameters` (row names: the
-#'   variables), and the sizes and sampler settings; `print()` shows each
-#'   row to two significant digits of its sd and returns its argument
-#'   invisibly.
+#'   variables), for a modular fit `emulator` (the emulator's
+#'   hyperparameters, fixed at their stage-1 mode: column `value`) and
+#'   `searches` (the log density each stage-1 search reached), and the
+#'   sizes and sampler settings; `print()` shows each row to two
+#'   significant digits of its sd and returns its argument invisibly.
 #' @family calibration
 #' @export
 #' @examples
@@ -445,10 +437,14 @@ summary.koh_fit <- function(object, ...) {
     rhat = posterior::rhat, ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail
   )
   is_tf <- s$variable %in% object$data$names$t
+  # a modular fit's emulator: constants, its stage-1 mode
+  fixed <- !is.null(object$emulator) & s$variable %in% emulator_variables(object)
   rownames(s) <- s$variable
   structure(
     list(parameters = s[is_tf, , drop = FALSE],
-         hyperparameters = s[!is_tf, , drop = FALSE],
+         hyperparameters = s[!is_tf & !fixed, , drop = FALSE],
+         emulator = if (any(fixed)) data.frame(value = s$mean[fixed], row.names = s$variable[fixed]),
+         searches = object$emulator$searches,
          data = object$data[c("n", "m", "p", "q")],
          settings = object$settings,
          sampler = fit_sampler_diagnostics(object)),
@@ -458,17 +454,12 @@ summary.koh_fit <- function(object, ...) {
 
 # posterior::summarise_draws() over every variable of a fit but lp__, with
 # plain numeric columns (not posterior's pillar-formatted ones). A modular
-# fit's emulator hyperparameters are constant in stage 2: their rows
-# summarise their stage-1 draws instead.
+# fit's emulator hyperparameters are constant (its stage-1 mode): sd 0,
+# R-hat and ESS NA.
 summarise_fit <- function(fit, ...) {
   draws <- as_draws_array.koh_fit(fit)
   draws <- posterior::subset_draws(draws, variable = setdiff(posterior::variables(draws), "lp__"))
-  s <- summarise_quietly(draws, list(...))
-  if (!is.null(fit$emulator)) {
-    stage1 <- summarise_quietly(emulator_draws(fit), list(...))
-    s[match(stage1$variable, s$variable), ] <- stage1
-  }
-  s
+  summarise_quietly(draws, list(...))
 }
 
 # posterior::summarise_draws(draws, <measures>) as a plain data frame.
@@ -499,28 +490,28 @@ print.summary.koh_fit <- function(x, ...) {
   print_summary_table(x$parameters)
   cat("\nGaussian-process hyperparameters (standardised scale):\n")
   print_summary_table(x$hyperparameters)
-  if (isTRUE(st$modular)) {
-    cat("(emulator rows: stage-1 posterior from the runs alone; fixed at its medians in stage 2)\n")
+  if (!is.null(x$emulator)) {
+    cat(sprintf("\nEmulator (standardised scale), fixed at its posterior mode given the runs (stage 1, %s):\n",
+                emulator_searches_label(x$searches)))
+    print(data.frame(value = signif(x$emulator$value, 3), row.names = rownames(x$emulator)))
   }
   invisible(x)
 }
 
 # The chains dropped, restarted or kept (stage 2, calibration elsewhere) as
 # stuck in a minor mode, for the summary.
-minor_modes_label <- function(dropped, restarted = list(), kept = integer(0)) {
-  chains <- function(stage, k) {
-    sprintf("%s%s %s", if (stage == "emulator") "stage-1 " else "",
-            if (length(k) > 1L) "chains" else "chain", paste(k, collapse = ", "))
+minor_modes_label <- function(dropped = integer(0), restarted = NULL, kept = integer(0)) {
+  chains <- function(k) {
+    sprintf("%s %s", if (length(k) > 1L) "chains" else "chain", paste(k, collapse = ", "))
   }
-  label <- function(what, stages) {
-    if (length(stages) == 0L) "" else sprintf("; %s (minor mode): %s", what,
-                                              paste(stages, collapse = "; "))
+  label <- function(what, said) {
+    if (length(said) == 0L) "" else sprintf("; %s (minor mode): %s", what, said)
   }
-  paste0(label("dropped", unlist(Map(chains, names(dropped), dropped))),
-         label("restarted", unlist(Map(function(stage, r) {
-           sprintf("%s from chain %d", chains(stage, r$chains), r$from)
-         }, names(restarted), restarted))),
-         label("kept", if (length(kept) > 0L) paste(chains("fit", kept), "(calibration elsewhere)")))
+  paste0(label("dropped", if (length(dropped) > 0L) chains(dropped)),
+         label("restarted", if (length(restarted) > 0L) {
+           sprintf("%s from chain %d", chains(restarted$chains), restarted$from)
+         }),
+         label("kept", if (length(kept) > 0L) paste(chains(kept), "(calibration elsewhere)")))
 }
 
 # Prints a summary table with one row per variable (the row names). Each

@@ -17,8 +17,9 @@
 # (`tf_converged`: the chains may still disagree on the emulator's
 # hyperparameters), median wall time, the worst R-hat's variable, the mean
 # leapfrog steps per sampling and per warm-up iteration and the chains'
-# summed seconds (stage 2 of a modular fit), and the parameters put on a log
-# or reciprocal scale.
+# summed seconds (stage 2 of a modular fit), how many of a modular fit's 16
+# stage-1 searches reached the emulator's mode (`stage1_found`), and the
+# parameters put on a log or reciprocal scale.
 # With BENCH_REFINE=r (r > 0) each problem is then refined once, as the
 # verdict of validate_emulator() advises: r runs from design_posterior() on
 # the first fit, added to the mt runs, and a second fit, reported as size
@@ -97,6 +98,9 @@ evaluate <- function(fit, truth, n, mt, k, wall) {
              warmup_leapfrog = leapfrog_steps(fit, "warmup"),
              chain_s = round(sum(rstan::get_elapsed_time(fit$stanfit))),
              dropped = paste(unlist(fit$settings$dropped), collapse = " "),
+             # how many of stage 1's searches reached the emulator's mode
+             stage1_found = if (is.null(fit$emulator)) NA else
+               sum(fit$emulator$searches >= fit$emulator$lp - 0.01),
              # parameters koh_data(scales = "auto") took off the identity
              scales = paste(names(Filter(function(s) s != "identity", fit$data$scaling$t_scale)),
                             collapse = " "),

@@ -7,7 +7,8 @@ test_that("chains run one per process give rstan's own multi-chain draws", {
                     seed = 5, refresh = 0, control = list(adapt_delta = 0.9), cores = 1)
   )
   fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = 5, cores = 2,
-                                    control = list(adapt_delta = 0.9), minor_modes = "keep"),
+                                    control = list(adapt_delta = 0.9), minor_modes = "keep",
+                                    modular = FALSE),
                           classes = "bayesbem_warning_convergence")
   expect_equal(as.array(fit$stanfit), as.array(reference))
   # the chains' draws as minor_mode_chains() reads them
@@ -94,7 +95,7 @@ test_that("a stage-2 minor mode that puts the calibration elsewhere is kept", {
   expect_equal(lone[c("drop", "restart", "kept")],
                list(drop = integer(0), restart = integer(0), kept = 2:4))
   expect_null(lone$from)
-  # no minor chain, or no calibration parameter (stage 1): nothing to place
+  # no minor chain, or no calibration parameter: nothing to place
   expect_null(bayesbem:::minor_mode_tf(draws, integer(0)))
   expect_null(bayesbem:::minor_mode_tf(draws[, , -(1:2)], 3L))
   expect_identical(bayesbem:::moved_tf(NULL), logical(0))
@@ -159,12 +160,12 @@ test_that("restarted chains start from the main mode's draws and are reported", 
   withr::defer(utils::assignInNamespace("minor_mode_chains", judge, "bayesbem"))
   expect_message(
     fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = 5, cores = 2,
-                                      control = list(adapt_delta = 0.9)),
+                                      control = list(adapt_delta = 0.9), modular = FALSE),
                             classes = "bayesbem_warning_convergence"),
     "Chain 2 was stuck in a minor mode .* run again from the draws of chain 1",
     class = "bayesbem_message_minor_modes"
   )
-  expect_equal(fit$settings$restarted, list(fit = list(chains = 2L, from = 1L)))
+  expect_equal(fit$settings$restarted, list(chains = 2L, from = 1L))
   expect_equal(as.array(fit$stanfit)[, 1, ], as.array(first)[, 1, ])
   expect_equal(as.array(fit$stanfit)[, 2, ],
                as.array(sample_seb(2, init = bayesbem:::restart_inits(first, 1)))[, 1, ])
@@ -183,24 +184,19 @@ test_that("draws go to Stan's unconstrained scale, parameters block only", {
 })
 
 test_that("dropped and restarted chains are named in the message and the summary", {
-  # one message per stage
-  expect_message(expect_message(bayesbem:::inform_minor_modes(list(emulator = 2L, fit = c(1L, 4L))),
-                                class = "bayesbem_message_minor_modes"),
-                 class = "bayesbem_message_minor_modes")
-  expect_snapshot(bayesbem:::inform_minor_modes(list(emulator = 2L, fit = c(1L, 4L))))
+  expect_message(bayesbem:::inform_minor_modes(c(1L, 4L)), class = "bayesbem_message_minor_modes")
+  expect_silent(bayesbem:::inform_minor_modes())
+  expect_snapshot(bayesbem:::inform_minor_modes(c(1L, 4L)))
   moved <- "fan_total_efficiency: 0.45 in the minor mode, 0.61 to 0.86 (90%) in the main mode."
-  expect_snapshot(bayesbem:::inform_minor_modes(list(fit = 3L), moved = moved))
-  expect_snapshot(bayesbem:::inform_minor_modes(list(), list(fit = list(chains = 2:4, from = 1L)),
-                                                moved))
-  expect_snapshot(bayesbem:::inform_minor_modes(list(emulator = 2L), moved = moved, kept = 2:3))
-  expect_equal(bayesbem:::minor_modes_label(list(emulator = 2L, fit = 3L)),
-               "; dropped (minor mode): stage-1 chain 2; chain 3")
-  expect_equal(bayesbem:::minor_modes_label(list(emulator = 3L),
-                                            list(fit = list(chains = c(1L, 3L), from = 2L))),
-               "; dropped (minor mode): stage-1 chain 3; restarted (minor mode): chains 1, 3 from chain 2")
-  expect_equal(bayesbem:::minor_modes_label(list()), "")
-  expect_equal(bayesbem:::minor_modes_label(list(emulator = 1L), kept = 2:3),
-               "; dropped (minor mode): stage-1 chain 1; kept (minor mode): chains 2, 3 (calibration elsewhere)")
+  expect_snapshot(bayesbem:::inform_minor_modes(3L, moved = moved))
+  expect_snapshot(bayesbem:::inform_minor_modes(integer(0), list(chains = 2:4, from = 1L), moved))
+  expect_snapshot(bayesbem:::inform_minor_modes(moved = moved, kept = 2:3))
+  expect_equal(bayesbem:::minor_modes_label(3L), "; dropped (minor mode): chain 3")
+  expect_equal(bayesbem:::minor_modes_label(integer(0), list(chains = c(1L, 3L), from = 2L)),
+               "; restarted (minor mode): chains 1, 3 from chain 2")
+  expect_equal(bayesbem:::minor_modes_label(), "")
+  expect_equal(bayesbem:::minor_modes_label(1L, kept = 2:3),
+               "; dropped (minor mode): chain 1; kept (minor mode): chains 2, 3 (calibration elsewhere)")
 })
 
 test_that("the calibration parameters a minor mode put elsewhere are named", {

@@ -49,17 +49,63 @@ test_that("the modular fit needs a grid and says so", {
   expect_snapshot(calibrate(seb_field, seb_sim, modular = "yes"), error = TRUE)
 })
 
-test_that("modular = \"auto\" fits in two stages above 36 field rows on a grid", {
+test_that("modular = \"auto\" fits in two stages on a grid design", {
   d12 <- koh_data(seb_field, seb_sim)
   choose <- function(d, structure = "grid") bayesbem:::choose_modular("auto", d, structure)
-  expect_false(choose(d12))
-  problem <- bayesbem:::synthetic_problem(120, 10, 1)
-  d120 <- koh_data(problem$field, problem$runs)
-  expect_equal(d120$n, 120)
-  expect_true(choose(d120))
-  expect_false(choose(d120, "dense"))
-  expect_false(bayesbem:::choose_modular(FALSE, d120, "grid"))
+  expect_true(choose(d12))
+  expect_false(choose(d12, "dense"))
+  expect_false(bayesbem:::choose_modular(FALSE, d12, "grid"))
   expect_true(bayesbem:::choose_modular(TRUE, d12, "grid"))
+})
+
+# Stage 1: the emulator at the highest mode of its posterior on Stan's
+# unconstrained scale, checked against finite differences of Stan's own log
+# density there (gradient zero, curvature negative) and against every search.
+test_that("stage 1 finds the posterior mode of the emulator's hyperparameters", {
+  skip_on_cran()
+  d <- koh_data(seb_field, seb_sim)
+  priors <- koh_priors()
+  emulator <- bayesbem:::fit_emulator(d, priors, seed = 3, on_failure = stop)
+  expect_named(emulator, c("beta_eta", "lambda_eta", "b", "lp", "searches"))
+  expect_length(emulator$beta_eta, 6)
+  expect_length(emulator$b, 7)
+  expect_length(emulator$searches, 16)
+  expect_equal(emulator$lp, max(emulator$searches))
+  # the same mode from the same seed
+  expect_equal(bayesbem:::fit_emulator(d, priors, seed = 3, on_failure = stop), emulator)
+  # the mode on the unconstrained scale: logit rho, log lambda, b
+  model <- koh_model_for(bayesbem:::emulator_stan_data(d, priors), "koh_emulator")
+  u <- c(stats::qlogis(exp(-emulator$beta_eta / 4)), log(emulator$lambda_eta), emulator$b)
+  expect_equal(rstan::log_prob(model, u), emulator$lp, tolerance = 1e-8)
+  h <- 1e-4
+  steps <- diag(h, length(u))
+  grad <- apply(steps, 2, function(e) (rstan::log_prob(model, u + e) - rstan::log_prob(model, u - e)) / (2 * h))
+  expect_lt(max(abs(grad)), 1e-3)
+  curvature <- apply(steps, 2, function(e) {
+    (rstan::log_prob(model, u + e) - 2 * emulator$lp + rstan::log_prob(model, u - e)) / h^2
+  })
+  expect_true(all(curvature < 0))
+  expect_equal(bayesbem:::emulator_searches_label(c(3, 1, 3.005, -Inf)), "2 of 4 searches reached it")
+})
+
+test_that("a modular fit reports its fixed emulator apart from the sampled parameters", {
+  skip_on_cran()
+  fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 8,
+                                    cores = 2, control = list(adapt_delta = 0.9)),
+                          classes = "bayesbem_warning_convergence")
+  expect_true(fit$settings$modular)
+  conv <- check_convergence(fit, warn = FALSE)
+  expect_false(any(conv$variable %in% attr(conv, "emulator")))
+  expect_true(all(c("equipment_power_density", "lambda_delta", "lambda_e") %in% conv$variable))
+  expect_false(anyNA(conv$rhat))
+  s <- summary(fit)
+  expect_equal(s$emulator["lambda_eta", "value"], fit$emulator$lambda_eta)
+  expect_setequal(rownames(s$emulator), attr(conv, "emulator"))
+  expect_setequal(rownames(s$hyperparameters),
+                  c(sprintf("beta_delta[%s]", c("temp", "rh", "solar")), "lambda_delta", "lambda_e"))
+  out <- capture.output(print(s))
+  expect_true(any(grepl(paste0("^Emulator \\(standardised scale\\), fixed at its posterior mode given ",
+                               "the runs \\(stage 1, [0-9]+ of 16 searches reached it\\):$"), out)))
 })
 
 test_that("modular and joint fits agree where the runs determine the emulator", {

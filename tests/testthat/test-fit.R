@@ -242,21 +242,26 @@ test_that("summaries have the parameters as row names and print without scientif
 })
 
 # bench/RESULTS.md: longer, more careful chains helped joint fits of 12
-# and 36 months; the modular stage 2 converged without them
-test_that("default sampling depends on the kind of fit", {
-  expect_equal(bayesbem:::default_sampling(FALSE), list(iter = 4000L, control = list(adapt_delta = 0.99)))
-  expect_equal(bayesbem:::default_sampling(TRUE), list(iter = 2000L, control = list(adapt_delta = 0.9)))
+# and 36 months and the modular stage 2 at 36 months; above 36 field rows
+# the modular stage 2 converged without them
+test_that("default sampling depends on the kind of fit and the data size", {
+  careful <- list(iter = 4000L, control = list(adapt_delta = 0.99))
+  expect_equal(bayesbem:::default_sampling(FALSE, 12), careful)
+  expect_equal(bayesbem:::default_sampling(FALSE, 120), careful)
+  expect_equal(bayesbem:::default_sampling(TRUE, 36), careful)
+  expect_equal(bayesbem:::default_sampling(TRUE, 37), list(iter = 2000L, control = list(adapt_delta = 0.9)))
 })
 
 test_that("three years of bills with 30 runs converge with the defaults (a seeded problem)", {
   skip_on_cran()
   # problem 3 of bench/bench-reliability.R at n = 36, mt = 30 with its seed:
-  # with the defaults (4000 iterations at adapt_delta 0.99) max R-hat 1.001
-  # and 2198 effective draws, the quickest of the 10 (about 4 minutes on 2
-  # cores; bench/RESULTS.md)
+  # with the defaults (modular, 4000 iterations at adapt_delta 0.99) max
+  # R-hat 1.003 and 2083 effective draws, under 2 minutes on 2 cores
+  # (bench/RESULTS.md)
   problem <- bayesbem:::synthetic_problem(36, 30, 3)
   expect_equal(nrow(problem$field), 36)
   fit <- calibrate(problem$field, problem$runs, seed = 4003, cores = 2)
+  expect_true(fit$settings$modular)
   conv <- check_convergence(fit, warn = FALSE)
   expect_lt(max(conv$rhat), 1.01)
   expect_gte(min(conv$ess_bulk, conv$ess_tail), 400)
