@@ -15,8 +15,8 @@
 #'
 #' When every parameter that fails is one of the emulator's hyperparameters
 #' (`beta_eta`, `lambda_eta`, the mean's `b`; sampled in a joint fit only)
-#' and the sampler had no trouble, the hint says so and advises runs where the posterior lies
-#' ([design_posterior()]). Measured
+#' and the sampler had no trouble, the hint says so and advises runs where
+#' the posterior lies ([design_posterior()]). Measured
 #' (`bench/RESULTS.md`): with 12 months and 10 runs, 4 of 10 synthetic fits
 #' failed only there, with the calibration parameters converged in all 10;
 #' 10 runs more from [design_posterior()] made 8 of 10 converge. When stage 2

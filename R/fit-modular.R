@@ -71,8 +71,9 @@ emulator_mode <- function(instance, starts, seed) {
 }
 
 # The mode reached by BFGS from `u` and its log density (-Inf when the
-# density cannot be evaluated at `u`). Where the density or its gradient
-# fails (a Cholesky factor near singular) the search is turned back.
+# density cannot be evaluated at `u`). Where the density fails (a Cholesky
+# factor near singular) it is taken as -1e300, so the line search backs
+# off; a gradient that fails is taken as zero, which ends the search there.
 climb_log_prob <- function(instance, u) {
   log_density <- function(x) {
     v <- tryCatch(rstan::log_prob(instance, x), error = function(e) -Inf)
