@@ -44,11 +44,8 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
   ess_min <- ess_min %||% (100 * kept_chains(fit))
   s <- summarise_fit(fit, rhat = posterior::rhat, ess_bulk = posterior::ess_bulk,
                      ess_tail = posterior::ess_tail)
-  # a modular fit's emulator is fixed at its stage-1 mode, not sampled
-  if (!is.null(fit$emulator)) {
-    s <- s[!s$variable %in% emulator_variables(fit), , drop = FALSE]
-    rownames(s) <- NULL
-  }
+  s <- s[!s$variable %in% fixed_variables(fit), , drop = FALSE]
+  rownames(s) <- NULL
   sampler <- fit_sampler_diagnostics(fit)
   s$ok <- s$rhat < rhat_max & s$ess_bulk >= ess_min & s$ess_tail >= ess_min
   out <- structure(s, class = c("koh_convergence", "data.frame"), sampler = sampler,
@@ -65,6 +62,12 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
 emulator_variables <- function(fit) {
   names <- emulator_draw_names(fit$data, mean_term_names(fit$priors, fit$data))
   c(names$beta_eta, "lambda_eta", names$b)
+}
+
+# The variables a fit holds fixed rather than samples: a modular fit's
+# emulator hyperparameters, at their stage-1 mode.
+fixed_variables <- function(fit) {
+  if (is.null(fit$emulator)) character() else emulator_variables(fit)
 }
 
 # The sampler's problems in a fit (stage 2 of a modular fit, whose stage 1

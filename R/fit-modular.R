@@ -92,10 +92,12 @@ climb_log_prob <- function(instance, u) {
 }
 
 # How many of stage 1's searches reached its mode (within 0.01 of its log
-# density), for the summary: few means other starts could find a higher one.
+# density): few means other starts could find a higher one.
+searches_at_mode <- function(searches) sum(searches >= max(searches) - 0.01)
+
+# The same, for the summary.
 emulator_searches_label <- function(searches) {
-  found <- sum(searches >= max(searches) - 0.01)
-  sprintf("%d of %d searches reached it", found, length(searches))
+  sprintf("%d of %d searches reached it", searches_at_mode(searches), length(searches))
 }
 
 # The data of koh_modular.stan: the field data, the priors, and the fixed

@@ -438,8 +438,7 @@ summary.koh_fit <- function(object, ...) {
     rhat = posterior::rhat, ess_bulk = posterior::ess_bulk, ess_tail = posterior::ess_tail
   )
   is_tf <- s$variable %in% object$data$names$t
-  # a modular fit's emulator: constants, its stage-1 mode
-  fixed <- !is.null(object$emulator) & s$variable %in% emulator_variables(object)
+  fixed <- s$variable %in% fixed_variables(object)
   rownames(s) <- s$variable
   structure(
     list(parameters = s[is_tf, , drop = FALSE],

@@ -100,7 +100,7 @@ evaluate <- function(fit, truth, n, mt, k, wall) {
              dropped = paste(unlist(fit$settings$dropped), collapse = " "),
              # how many of stage 1's searches reached the emulator's mode
              stage1_found = if (is.null(fit$emulator)) NA else
-               sum(fit$emulator$searches >= fit$emulator$lp - 0.01),
+               bayesbem:::searches_at_mode(fit$emulator$searches),
              # parameters koh_data(scales = "auto") took off the identity
              scales = paste(names(Filter(function(s) s != "identity", fit$data$scaling$t_scale)),
                             collapse = " "),
