@@ -1,15 +1,32 @@
+# The runs of seb_sim (rows with the same parameters), numbered.
+seb_runs <- function() {
+  key <- do.call(paste, seb_sim[5:7])
+  match(key, unique(key))
+}
+
+# The sum of squared errors with which lm(formula) predicts each run from a
+# fit to the other runs, by refitting without it.
+left_out_by_refits <- function(formula, data, run) {
+  sum(vapply(unique(run), function(r) {
+    fit <- stats::lm(formula, data = data[run != r, ])
+    sum((data$eta[run == r] - stats::predict(fit, data[run == r, ]))^2)
+  }, numeric(1)))
+}
+
 test_that("scales = 'auto' puts fan efficiency on the reciprocal scale, the others as they are", {
   d <- koh_data(seb_field, seb_sim)
   expect_equal(d$scaling$t_scale,
                c(fan_total_efficiency = "reciprocal", equipment_power_density = "identity",
                  infiltration_per_exterior_area = "identity"))
-  # independently: residual variance of the runs' linear fit on the inputs and
-  # parameters, fan efficiency as it is and as 1 / efficiency
-  rss <- function(f) sum(stats::residuals(stats::lm(f, data = seb_sim))^2)
-  ratio <- rss(eta ~ temp + rh + solar + I(1 / fan_total_efficiency) + equipment_power_density +
-                 infiltration_per_exterior_area) /
-    rss(eta ~ temp + rh + solar + fan_total_efficiency + equipment_power_density +
-          infiltration_per_exterior_area)
+  # independently: the error with which the runs' linear fit on the inputs and
+  # parameters predicts each run left out, refitted without it, fan
+  # efficiency as it is and as 1 / efficiency
+  run <- seb_runs()
+  ratio <- left_out_by_refits(eta ~ temp + rh + solar + I(1 / fan_total_efficiency) +
+                                equipment_power_density + infiltration_per_exterior_area,
+                              seb_sim, run) /
+    left_out_by_refits(eta ~ temp + rh + solar + fan_total_efficiency + equipment_power_density +
+                         infiltration_per_exterior_area, seb_sim, run)
   expect_lt(ratio, 0.8)
   # tc is -1 / efficiency mapped to [0, 1], in the parameter's order
   v <- -1 / seb_sim$fan_total_efficiency
@@ -34,10 +51,31 @@ test_that("scales can be the paper's identity or given per parameter", {
 })
 
 test_that("a parameter that crosses zero keeps the identity under 'auto'", {
-  t <- cbind(a = c(-1, 0.5, 1, 2), b = c(1, 2, 3, 4))
+  t <- cbind(a = c(-1, 0.5, 1, 2, -0.5, 1.5, 0.2, 3), b = 1:8)
   eta <- 1 / t[, "b"] + t[, "a"]
-  expect_equal(bayesbem:::auto_scales(t, matrix(0, 4, 0), eta),
+  expect_equal(bayesbem:::auto_scales(t, matrix(0, 8, 0), eta),
                c(a = "identity", b = "reciprocal"))
+})
+
+test_that("the left-out error equals refits without each run", {
+  X <- cbind(1, as.matrix(seb_sim[c("temp", "rh", "solar", "fan_total_efficiency")]))
+  run <- seb_runs()
+  expect_equal(bayesbem:::left_out_ss(X, seb_sim$eta, run),
+               left_out_by_refits(eta ~ temp + rh + solar + fan_total_efficiency, seb_sim, run),
+               tolerance = 1e-10)
+  # a run that alone determines a coefficient cannot be predicted by the others
+  expect_equal(bayesbem:::left_out_ss(cbind(1, c(1, 0, 0)), c(1, 2, 3), 1:3), Inf)
+})
+
+test_that("'auto' does not pick a scale that only fits the run nearest 0", {
+  # a linear output in a parameter whose range reaches down to 0: on the
+  # reciprocal scale the run at 1e-6 lies far from the others, and a fit to
+  # every run matches it, but none predicts it when it is left out
+  t <- cbind(a = c(1e-6, seq(0.1, 1, length.out = 9)))
+  eta <- 0.05 * t[, "a"] + c(1, 0, 0.05, -0.04, 0.02, 0, -0.03, 0.01, 0.02, -0.01)
+  rss <- function(v) sum(stats::lm.fit(cbind(1, v), eta)$residuals^2)
+  expect_lt(rss(-1 / t[, "a"]), 0.8 * rss(t[, "a"]))
+  expect_equal(bayesbem:::auto_scales(t, matrix(0, 10, 0), eta), c(a = "identity"))
 })
 
 test_that("bad scales get classed errors", {
