@@ -31,8 +31,7 @@ grid_layout <- function(xf, xc, tc, tol = 0) {
   period <- nearest
   period[!matched] <- n + match(extra_key, unique(extra_key))
   x <- rbind(xf, xc[!matched, , drop = FALSE][!duplicated(extra_key), , drop = FALSE])
-  run_key <- row_keys(tc)
-  run <- match(run_key, unique(run_key))
+  run <- row_groups(tc)
   mt <- max(run)
   if (mt < 2L || length(period) != nrow(x) * mt || anyDuplicated(cbind(period, run)) > 0L) {
     return(NULL)
@@ -54,6 +53,13 @@ grid_runs <- function(data) {
 # when every value is identical, as Stan's equal_rows() requires.
 row_keys <- function(x) {
   apply(x, 1, function(r) paste(sprintf("%a", r), collapse = " "))
+}
+
+# The group of each matrix row, numbered in order of first appearance: rows
+# with identical values share one (the runs of a design `tc`).
+row_groups <- function(x) {
+  key <- row_keys(x)
+  match(key, unique(key))
 }
 
 # Which likelihood to use: "grid" when the design is a grid and nothing

@@ -50,7 +50,7 @@ parameter_scales <- function(scales, t, x, eta, call = rlang::caller_env()) {
 # 0.33-0.60 of the identity's error, no other parameter's scale gains a
 # fifth.
 auto_scales <- function(t, x, eta, gain = 0.2) {
-  run <- match(do.call(paste, as.data.frame(t)), unique(do.call(paste, as.data.frame(t))))
+  run <- row_groups(t)
   run_error <- function(k, scale) {
     tk <- t
     tk[, k] <- scale_functions[[scale]]$to(t[, k])
