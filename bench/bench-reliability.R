@@ -24,12 +24,14 @@
 # verdict of validate_emulator() advises: r runs from design_posterior() on
 # the first fit, added to the mt runs, and a second fit, reported as size
 # (n, mt + r) with its wall time (both fits and the runs).
+# With BENCH_CSV=<file>, each problem's row is also appended to that CSV file
+# (so that runs over several sessions can be pooled).
 # Usage, from the package root, with bayesbem installed:
-#   [BENCH_CALIBRATE='list(...)'] [BENCH_REFINE=r] Rscript bench/bench-reliability.R \
+#   [BENCH_CALIBRATE='list(...)'] [BENCH_REFINE=r] [BENCH_CSV=file] Rscript bench/bench-reliability.R \
 #     [sizes as n:mt:problems, comma-separated; default 12:10:10,12:30:10,36:30:10,120:30:3,365:30:3]
 # `problems` is a count (problems 1 to k) or a range k1-k2 (e.g. 365:30:2-3).
 suppressPackageStartupMessages(library(bayesbem))
-options(bayesbem.progress = FALSE)
+options(bayesbem.progress = FALSE, width = 250)
 args <- commandArgs(trailingOnly = TRUE)
 spec <- if (length(args) > 0) args[1] else "12:10:10,12:30:10,36:30:10,120:30:3,365:30:3"
 sizes <- do.call(rbind, lapply(strsplit(strsplit(spec, ",")[[1]], ":"), function(s) {
@@ -118,6 +120,11 @@ for (i in seq_len(nrow(sizes))) {
   for (k in seq(s$first, s$last)) {
     r <- one_problem(s$n, s$mt, k)
     print(r, row.names = FALSE)
+    csv <- Sys.getenv("BENCH_CSV")
+    if (nzchar(csv)) {
+      utils::write.table(r, csv, sep = ",", row.names = FALSE, col.names = !file.exists(csv),
+                         append = file.exists(csv))
+    }
     rows[[length(rows) + 1L]] <- r
   }
 }
