@@ -51,18 +51,20 @@ parameter_scales <- function(scales, t, x, eta, call = rlang::caller_env()) {
 # fifth in two problems of 10 runs.
 auto_scales <- function(t, x, eta, gain = 0.2) {
   run <- row_groups(t)
-  run_error <- function(k, scale) {
-    tk <- t
-    tk[, k] <- scale_functions[[scale]]$to(t[, k])
-    left_out_ss(cbind(1, x, tk), eta, run)
-  }
+  # every parameter as it is: the same for each parameter's comparison
+  identity <- left_out_ss(cbind(1, x, t), eta, run)
+  others <- setdiff(names(scale_functions), "identity")
   vapply(stats::setNames(seq_len(ncol(t)), colnames(t)), function(k) {
     if (min(t[, k]) <= 0) {
       return("identity")
     }
-    ss <- vapply(names(scale_functions), function(scale) run_error(k, scale), numeric(1))
+    ss <- vapply(others, function(scale) {
+      tk <- t
+      tk[, k] <- scale_functions[[scale]]$to(t[, k])
+      left_out_ss(cbind(1, x, tk), eta, run)
+    }, numeric(1))
     best <- names(which.min(ss))
-    if (ss[[best]] < (1 - gain) * ss[["identity"]]) best else "identity"
+    if (ss[[best]] < (1 - gain) * identity) best else "identity"
   }, character(1))
 }
 

@@ -1,9 +1,3 @@
-# The runs of seb_sim (rows with the same parameters), numbered.
-seb_runs <- function() {
-  key <- do.call(paste, seb_sim[5:7])
-  match(key, unique(key))
-}
-
 # The sum of squared errors with which lm(formula) predicts each run from a
 # fit to the other runs, by refitting without it.
 left_out_by_refits <- function(formula, data, run) {
@@ -21,7 +15,7 @@ test_that("scales = 'auto' puts fan efficiency on the reciprocal scale, the othe
   # independently: the error with which the runs' linear fit on the inputs and
   # parameters predicts each run left out, refitted without it, fan
   # efficiency as it is and as 1 / efficiency
-  run <- seb_runs()
+  run <- bayesbem:::row_groups(as.matrix(seb_sim[5:7]))
   ratio <- left_out_by_refits(eta ~ temp + rh + solar + I(1 / fan_total_efficiency) +
                                 equipment_power_density + infiltration_per_exterior_area,
                               seb_sim, run) /
@@ -59,7 +53,7 @@ test_that("a parameter that crosses zero keeps the identity under 'auto'", {
 
 test_that("the left-out error equals refits without each run", {
   X <- cbind(1, as.matrix(seb_sim[c("temp", "rh", "solar", "fan_total_efficiency")]))
-  run <- seb_runs()
+  run <- bayesbem:::row_groups(as.matrix(seb_sim[5:7]))
   expect_equal(bayesbem:::left_out_ss(X, seb_sim$eta, run),
                left_out_by_refits(eta ~ temp + rh + solar + fan_total_efficiency, seb_sim, run),
                tolerance = 1e-10)
