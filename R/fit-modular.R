@@ -114,7 +114,8 @@ modular_stan_data <- function(data, priors, emulator) {
   beta_t <- emulator$beta_eta[-seq_len(p)]
   E <- grid_runs(data)[seq_len(n), , drop = FALSE]
   kt <- jittered_cor(pair_geometry(grid$design, grid$design), beta_t, priors$nugget)
-  c(list(n = n, mt = grid$mt, p = p, q = data$q, y = data$y, xf = xf, tc = grid$design),
+  c(list(n = n, mt = grid$mt, p = p, q = data$q, y = data$y, xf = xf, tc = grid$design,
+         lapack = as.integer(use_lapack())),
     koh_prior_data(data, priors),
     list(beta_eta_fixed = as.array(emulator$beta_eta), lambda_eta_fixed = emulator$lambda_eta,
          b_fixed = as.array(emulator$b), E_f = E - grid_mean(xf, grid$design, coef),

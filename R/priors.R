@@ -241,7 +241,7 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
     grid <- data$grid
     return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = data$q, y = data$y,
                   eta = grid_runs(data), x_grid = grid$x,
-                  tc = grid$design),
+                  tc = grid$design, lapack = as.integer(use_lapack(call))),
              prior_data))
   }
   c(list(n = data$n, m = data$m, p = data$p, q = data$q,

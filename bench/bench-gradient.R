@@ -4,7 +4,9 @@
 # emulator fixed), for n daily field periods of 2013 and mt runs of the
 # embedded model (the paper's three calibration parameters, LHS design),
 # with the default priors (linear emulator mean). Mean of repeated
-# rstan::grad_log_prob() calls at one point; one core.
+# rstan::grad_log_prob() calls at one point; one core. The grid and stage-2
+# programs are timed with their n x n factor by Eigen and by R's LAPACK (on
+# the BLAS printed at the end; use_lapack() picks one of the two in fits).
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-gradient.R [n values, comma-separated] [mt]
 suppressPackageStartupMessages(library(bayesbem))
@@ -36,15 +38,21 @@ for (n in ns) {
   stage1 <- bayesbem:::emulator_stan_data(d, priors)
   emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1, b = rep(0, grid$n_b))
   stage2 <- bayesbem:::modular_stan_data(d, priors, emulator)
+  # ms per gradient of `program` on `data`, its factor by Eigen (0) or LAPACK (1)
+  ms <- function(program, data, lapack) {
+    1000 * grad_time(bayesbem:::stanmodels[[program]], utils::modifyList(data, list(lapack = lapack)))
+  }
   rows[[length(rows) + 1L]] <- data.frame(
     n = n, mt = mt,
-    joint_grid_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_grid, grid),
+    joint_grid_ms = ms("koh_grid", grid, 0L), joint_grid_lapack_ms = ms("koh_grid", grid, 1L),
     stage1_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_emulator, stage1),
-    stage2_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_modular, stage2)
+    stage2_ms = ms("koh_modular", stage2, 0L), stage2_lapack_ms = ms("koh_modular", stage2, 1L)
   )
   print(rows[[length(rows)]], digits = 3, row.names = FALSE)
 }
 cat("\nTime per gradient (ms):\n")
 print(do.call(rbind, rows), digits = 3, row.names = FALSE)
-cat(sprintf("machine: %s, %d cores; R %s; rstan %s; %s\n", Sys.info()[["nodename"]],
-            parallel::detectCores(), getRversion(), packageVersion("rstan"), Sys.Date()))
+cat(sprintf("machine: %s, %d cores; R %s; rstan %s; %s\nBLAS: %s (use_lapack(): %s)\n",
+            Sys.info()[["nodename"]], parallel::detectCores(), getRversion(),
+            packageVersion("rstan"), Sys.Date(), extSoftVersion()[["BLAS"]],
+            bayesbem:::use_lapack()))

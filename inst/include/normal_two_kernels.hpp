@@ -1,8 +1,8 @@
 // normal_two_kernels_lpdf(), declared in inst/stan/include/koh_functions.stan
 // and defined here with its analytic gradient. It is the cost of every
 // gradient of the grid and modular programs at large n: Stan's reverse mode
-// through a 365 x 365 Cholesky factor takes ~46 ms, this ~5 ms
-// (bench/bench-gradient.R).
+// through a 365 x 365 Cholesky factor takes ~46 ms, this ~5 ms with Eigen
+// and ~2 ms with R's LAPACK on OpenBLAS (bench/bench-gradient.R).
 //
 // This file is included by stan_meta_header.hpp inside each model's
 // namespace, after the functions the Stan code defines and before the model
@@ -12,6 +12,9 @@
 // with rstan 2.21, and stanc3); the declaration itself is never called.
 
 namespace bayesbem_cpp {
+
+// Defined in src/lapack_inverse.cpp (R's headers cannot be included here).
+extern "C" int bayesbem_lapack_inverse(int n, double* a, double* log_det);
 
 // Adds x to the operands with the partial derivative g; data add nothing.
 inline void add_operand(std::vector<stan::math::var>& ops, std::vector<double>& grads,
@@ -67,6 +70,31 @@ inline Eigen::MatrixXd inverse_from_cholesky(const Eigen::MatrixXd& L) {
   return inv;
 }
 
+/* Factors Sigma once: returns log|Sigma|, sets alpha = Sigma^-1 r and
+ * overwrites sigma with Sigma^-1. Eigen's LLT and inverse_from_cholesky(),
+ * or with `lapack` R's LAPACK (dpotrf, dpotri), whichever is faster on the
+ * BLAS R uses: R's use_lapack() (R/utils-gp.R) chooses. */
+inline double factor_sigma(Eigen::MatrixXd& sigma, const Eigen::VectorXd& r,
+                           Eigen::VectorXd& alpha, bool lapack) {
+  const char* not_pd = "normal_two_kernels_lpdf: the covariance is not positive definite";
+  if (lapack) {
+    double log_det = 0;
+    if (bayesbem_lapack_inverse(static_cast<int>(sigma.rows()), sigma.data(), &log_det) != 0) {
+      throw std::domain_error(not_pd);
+    }
+    sigma.triangularView<Eigen::StrictlyUpper>() = sigma.transpose();
+    alpha = sigma * r;
+    return log_det;
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(sigma);
+  if (llt.info() != Eigen::Success) {
+    throw std::domain_error(not_pd);
+  }
+  alpha = llt.solve(r);
+  sigma = inverse_from_cholesky(llt.matrixLLT());
+  return 2 * llt.matrixLLT().diagonal().array().log().sum();
+}
+
 // The log density as a double, or as a var holding its partial derivatives.
 inline double finish(double lp, const std::vector<stan::math::var>&,
                      const std::vector<double>&, double*) {
@@ -83,7 +111,8 @@ inline stan::math::var finish(double lp, const std::vector<stan::math::var>& ops
  * squared-exponential kernel (1 / lambda) exp(-sum_k beta[k] (u_ik - u_jk)^2)
  * (method Eq 2). One Cholesky factor of Sigma gives the value,
  *   -0.5 (n log(2 pi) + log|Sigma| + r' alpha),  alpha = Sigma^-1 r,
- * and Sigma^-1 (inverse_from_cholesky()) gives every partial derivative
+ * and Sigma^-1 (factor_sigma(), by Eigen or by R's LAPACK as `lapack` says)
+ * gives every partial derivative
  * (Rasmussen & Williams 2006, Eq 5.9): d/dtheta = tr(W dSigma/dtheta) with
  * W = (alpha alpha' - Sigma^-1) / 2,
  * so d/dr = -alpha, d/dK = a W, d/da = sum(W .* K), d/dbeta[k] =
@@ -92,7 +121,7 @@ template <typename TR, typename TK, typename TA, typename TD2, typename TB, type
           typename TJ>
 typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
     const TR& r_in, const TK& K_in, const TA& a, const TD2& nd2_in, const TB& beta_in,
-    const TL& lambda, const TJ& d) {
+    const TL& lambda, const TJ& d, bool lapack) {
   using stan::math::value_of;
   typedef typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type result_t;
   // references: no copy when an argument already has the type (stanc2), a
@@ -121,16 +150,12 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
                             lambdav;
   Eigen::MatrixXd sigma = av * Kv + S;
   sigma.diagonal().array() += value_of(d);
-  const Eigen::LLT<Eigen::MatrixXd> llt(sigma);
-  if (llt.info() != Eigen::Success) {
-    throw std::domain_error("normal_two_kernels_lpdf: the covariance is not positive definite");
-  }
-  const Eigen::VectorXd alpha = llt.solve(rv);
-  const double log_det = 2 * llt.matrixLLT().diagonal().array().log().sum();
+  Eigen::VectorXd alpha;
+  const double log_det = factor_sigma(sigma, rv, alpha, lapack);
   const double lp = -0.5 * (n * std::log(2 * stan::math::pi()) + log_det + rv.dot(alpha));
 
-  const Eigen::MatrixXd W =
-      0.5 * (alpha * alpha.transpose() - inverse_from_cholesky(llt.matrixLLT()));
+  // sigma now holds Sigma^-1
+  const Eigen::MatrixXd W = 0.5 * (alpha * alpha.transpose() - sigma);
   const Eigen::MatrixXd WS = W.cwiseProduct(S);
   const Eigen::VectorXd d_beta =
       nd2.leftCols(P).transpose() * Eigen::Map<const Eigen::VectorXd>(WS.data(), n * n);
@@ -153,7 +178,7 @@ template <bool propto = false, typename TR, typename TK, typename TA, typename T
           typename TB, typename TL, typename TJ>
 typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type bayesbem_normal_two_kernels_lpdf(
     const TR& r, const TK& K, const TA& a, const TD2& nd2, const TB& beta, const TL& lambda,
-    const TJ& d, std::ostream* pstream__) {
-  return bayesbem_cpp::normal_two_kernels(r, K, a, nd2, beta, lambda, d);
+    const TJ& d, const int& lapack, std::ostream* pstream__) {
+  return bayesbem_cpp::normal_two_kernels(r, K, a, nd2, beta, lambda, d, lapack != 0);
 }
 #define normal_two_kernels_lpdf bayesbem_normal_two_kernels_lpdf

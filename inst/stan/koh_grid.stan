@@ -17,6 +17,7 @@ data {
   matrix[n_x, p] x_grid;                 // grid inputs, shared by every run
   matrix[mt, q] tc;                      // simulation design, one row per run
 #include /include/koh_prior_data.stan
+  int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
 }
 transformed data {
   matrix[n, p] xf = block(x_grid, 1, 1, n, p);
@@ -51,6 +52,6 @@ model {
                                       - discrepancy_terms(h, gamma)
                                       - block(E, 1, 1, n, mt) * head(wc, mt)
                                       | block(Kx, 1, 1, n, n), wc[mt + 1] / lambda_eta, nd2_ff,
-                                      beta_delta, lambda_delta, 1 / lambda_e);
+                                      beta_delta, lambda_delta, 1 / lambda_e, lapack);
   }
 }

@@ -19,6 +19,7 @@ data {
   matrix[n, p] xf;                       // field inputs
   matrix[mt, q] tc;                      // simulation design, one row per run
 #include /include/koh_prior_data.stan
+  int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
   // the stage-1 emulator
   vector[p + q] beta_eta_fixed;          // its correlation parameters
   real<lower=0> lambda_eta_fixed;        // its precision
@@ -52,7 +53,7 @@ model {
   target += normal_two_kernels_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef)
                                     - discrepancy_terms(h, gamma) - E_f * head(wc, mt)
                                     | Kx_ff, wc[mt + 1] / lambda_eta_fixed, nd2_ff, beta_delta,
-                                    lambda_delta, 1 / lambda_e);
+                                    lambda_delta, 1 / lambda_e, lapack);
 }
 generated quantities {
   // the fixed emulator, under the names of the joint programs

@@ -94,17 +94,22 @@ test_that("the grid program's log density equals the dense program's", {
   }
 })
 
-# Checks both programs at random parameters of the data d (test below).
-expect_gradient_matches <- function(d) {
+# The grid and modular programs' data and random parameters for the data d.
+field_density_models <- function(d) {
   priors <- koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)), nugget = 1e-4)
   grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
   pars <- random_koh_pars(bayesbem:::koh_stan_data(d, priors, structure = "dense"))
   emulator <- list(beta_eta = -4 * log(pars$rho_eta), lambda_eta = pars$lambda_eta, b = pars$b)
-  models <- list(
+  list(
     koh_grid = list(sd = grid, pars = pars[names(pars) != "y_pred"]),
     koh_modular = list(sd = bayesbem:::modular_stan_data(d, priors, emulator),
                        pars = pars[c("tf", "rho_delta", "lambda_delta", "lambda_e", "gamma")])
   )
+}
+
+# Checks both programs at random parameters of the data d (test below).
+expect_gradient_matches <- function(d) {
+  models <- field_density_models(d)
   for (program in names(models)) {
     model <- koh_model_for(models[[program]]$sd, program)
     upars <- rstan::unconstrain_pars(model, models[[program]]$pars)
@@ -125,6 +130,24 @@ test_that("the grid and modular gradients equal finite differences", {
   skip_on_cran()
   withr::local_seed(12)
   for (n in c(7, 70)) expect_gradient_matches(random_grid_data(n = n, extra = 2))
+})
+
+# normal_two_kernels_lpdf() factors Sigma by Eigen or by R's LAPACK, as
+# use_lapack() chooses: both must give the same log density and gradient.
+test_that("R's LAPACK and Eigen give the same field density and gradient", {
+  skip_on_cran()
+  withr::local_seed(13)
+  models <- field_density_models(random_grid_data(n = 70, extra = 2))
+  for (program in names(models)) {
+    at <- lapply(0:1, function(lapack) {
+      model <- koh_model_for(utils::modifyList(models[[program]]$sd, list(lapack = lapack)),
+                             program)
+      u <- rstan::unconstrain_pars(model, models[[program]]$pars)
+      list(lp = rstan::log_prob(model, u), grad = as.vector(rstan::grad_log_prob(model, u)))
+    })
+    expect_equal(at[[2]]$lp, at[[1]]$lp, tolerance = 1e-10)
+    expect_equal(at[[2]]$grad, at[[1]]$grad, tolerance = 1e-8)
+  }
 })
 
 test_that("a failing Cholesky factor is named, with the fix", {
