@@ -5,8 +5,8 @@
 //
 // R's LAPACK runs on the BLAS R is linked to: with an optimised BLAS
 // (OpenBLAS, MKL, BLIS, Accelerate) dpotrf + dpotri at n = 365 take about
-// half of Eigen's time, with the reference BLAS about four times Eigen's
-// (bench/RESULTS.md), hence the choice in R (use_lapack(), R/utils-gp.R).
+// half of Eigen's time, with the reference BLAS four to six times Eigen's
+// (bench/RESULTS.md), hence the choice in R (use_lapack(), R/utils-lapack.R).
 #define USE_FC_LEN_T
 #include <R_ext/Lapack.h>
 #include <cmath>

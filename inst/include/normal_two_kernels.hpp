@@ -1,8 +1,9 @@
 // normal_two_kernels_lpdf(), declared in inst/stan/include/koh_functions.stan
 // and defined here with its analytic gradient. It is the cost of every
 // gradient of the grid and modular programs at large n: Stan's reverse mode
-// through a 365 x 365 Cholesky factor takes ~46 ms, this ~5 ms with Eigen
-// and ~2 ms with R's LAPACK on OpenBLAS (bench/bench-gradient.R).
+// through a 365 x 365 Cholesky factor takes ~46 ms, the whole stage-2
+// gradient with this 5-10 ms with Eigen (the VM's speed varies by day) and
+// about 5 ms with R's LAPACK on OpenBLAS (bench/bench-gradient.R).
 //
 // This file is included by stan_meta_header.hpp inside each model's
 // namespace, after the functions the Stan code defines and before the model
@@ -73,7 +74,7 @@ inline Eigen::MatrixXd inverse_from_cholesky(const Eigen::MatrixXd& L) {
 /* Factors Sigma once: returns log|Sigma|, sets alpha = Sigma^-1 r and
  * overwrites sigma with Sigma^-1. Eigen's LLT and inverse_from_cholesky(),
  * or with `lapack` R's LAPACK (dpotrf, dpotri), whichever is faster on the
- * BLAS R uses: R's use_lapack() (R/utils-gp.R) chooses. */
+ * BLAS R uses: R's use_lapack() (R/utils-lapack.R) chooses. */
 inline double factor_sigma(Eigen::MatrixXd& sigma, const Eigen::VectorXd& r,
                            Eigen::VectorXd& alpha, bool lapack) {
   const char* not_pd = "normal_two_kernels_lpdf: the covariance is not positive definite";
