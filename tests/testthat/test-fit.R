@@ -150,6 +150,18 @@ test_that("R's LAPACK and Eigen give the same field density and gradient", {
   }
 })
 
+test_that("a covariance that is not positive definite is an error on both paths", {
+  skip_on_cran()
+  withr::local_seed(13)
+  m <- field_density_models(random_grid_data(n = 7, extra = 2))$koh_modular
+  m$sd$Kx_ff <- -1e12 * diag(nrow(m$sd$Kx_ff))
+  for (lapack in 0:1) {
+    model <- koh_model_for(utils::modifyList(m$sd, list(lapack = lapack)), "koh_modular")
+    u <- rstan::unconstrain_pars(model, m$pars)
+    expect_error(rstan::log_prob(model, u), "not positive definite")
+  }
+})
+
 test_that("a failing Cholesky factor is named, with the fix", {
   skip_on_cran()
   # months 1 and 2 at inputs 1e-10 apart: K_x is singular without a nugget
