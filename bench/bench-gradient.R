@@ -24,6 +24,11 @@ grad_time <- function(model, data, seconds = 1) {
   system.time(for (i in seq_len(reps)) rstan::grad_log_prob(fit0, upars))[["elapsed"]] / reps
 }
 
+# ms per gradient of `program` on `data`, its factor by Eigen (0) or LAPACK (1)
+ms <- function(program, data, lapack) {
+  1000 * grad_time(bayesbem:::stanmodels[[program]], utils::modifyList(data, list(lapack = lapack)))
+}
+
 daily <- epw_daily(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 truth <- list(fan_total_efficiency = 0.5, equipment_power_density = 15,
               infiltration_per_exterior_area = 0.0008)
@@ -38,10 +43,6 @@ for (n in ns) {
   stage1 <- bayesbem:::emulator_stan_data(d, priors)
   emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1, b = rep(0, grid$n_b))
   stage2 <- bayesbem:::modular_stan_data(d, priors, emulator)
-  # ms per gradient of `program` on `data`, its factor by Eigen (0) or LAPACK (1)
-  ms <- function(program, data, lapack) {
-    1000 * grad_time(bayesbem:::stanmodels[[program]], utils::modifyList(data, list(lapack = lapack)))
-  }
   rows[[length(rows) + 1L]] <- data.frame(
     n = n, mt = mt,
     joint_grid_ms = ms("koh_grid", grid, 0L), joint_grid_lapack_ms = ms("koh_grid", grid, 1L),
