@@ -106,10 +106,57 @@ inline stan::math::var finish(double lp, const std::vector<stan::math::var>& ops
   return stan::math::precomputed_gradients(lp, ops, grads);
 }
 
+/* The squared-exponential kernel S[i, j] = exp(sum_k beta[k] nd2[i + n j, k])
+ * / lambda (nd2 from neg_sqdist(), its last column unused), lower triangle
+ * and diagonal only: S is symmetric, and half the exponentials are half its
+ * cost. Column j's entries i >= j are contiguous in each column of nd2. */
+inline Eigen::MatrixXd sq_exp_lower(const Eigen::MatrixXd& nd2, const Eigen::VectorXd& beta,
+                                    double lambda, Eigen::Index n) {
+  Eigen::MatrixXd S(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::Index m = n - j;
+    Eigen::VectorXd log_s = Eigen::VectorXd::Zero(m);
+    for (Eigen::Index k = 0; k < beta.size(); ++k) {
+      log_s += beta(k) * nd2.col(k).segment(j * n + j, m);
+    }
+    S.col(j).tail(m) = log_s.array().exp().matrix() / lambda;
+  }
+  return S;
+}
+
+/* The traces the gradient needs, tr(W M) = sum(W .* M) for symmetric M, from
+ * the lower triangles of W = (alpha alpha' - Sigma^-1) / 2, K and S, each
+ * off-diagonal entry counted twice: sum(W .* K), sum(W .* S), tr(W) and, in
+ * d_beta[k], sum(W .* S .* nd2[, k]), whose diagonal is zero (a point's
+ * distance to itself). One pass, W never formed. */
+struct Traces {
+  double wk = 0, ws = 0, w = 0;
+  Eigen::VectorXd d_beta;
+};
+inline Traces lower_traces(const Eigen::VectorXd& alpha, const Eigen::MatrixXd& sigma_inv,
+                           const Eigen::MatrixXd& K, const Eigen::MatrixXd& S,
+                           const Eigen::MatrixXd& nd2, Eigen::Index P) {
+  const Eigen::Index n = alpha.size();
+  Traces t;
+  t.d_beta = Eigen::VectorXd::Zero(P);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::Index m = n - j;
+    const Eigen::VectorXd w =
+        0.5 * (alpha(j) * alpha.tail(m) - sigma_inv.col(j).tail(m));
+    const Eigen::VectorXd ws = w.cwiseProduct(S.col(j).tail(m));
+    t.wk += 2 * w.dot(K.col(j).tail(m)) - w(0) * K(j, j);
+    t.ws += 2 * ws.sum() - ws(0);
+    t.w += w(0);
+    for (Eigen::Index k = 0; k < P; ++k) {
+      t.d_beta(k) += 2 * ws.dot(nd2.col(k).segment(j * n + j, m));
+    }
+  }
+  return t;
+}
+
 /* Log density of r ~ N(0, Sigma) with
- *   Sigma = a K + S + d I,  S[i, j] = exp(sum_k beta[k] nd2[i + n j, k] - log(lambda)),
- * nd2 from neg_sqdist() (its last column of -1 unused here), so S is the
- * squared-exponential kernel (1 / lambda) exp(-sum_k beta[k] (u_ik - u_jk)^2)
+ *   Sigma = a K + S + d I,  S from sq_exp_lower(),
+ * the squared-exponential kernel (1 / lambda) exp(-sum_k beta[k] (u_ik - u_jk)^2)
  * (method Eq 2). One Cholesky factor of Sigma gives the value,
  *   -0.5 (n log(2 pi) + log|Sigma| + r' alpha),  alpha = Sigma^-1 r,
  * and Sigma^-1 (factor_sigma(), by Eigen or by R's LAPACK as `lapack` says)
@@ -117,7 +164,8 @@ inline stan::math::var finish(double lp, const std::vector<stan::math::var>& ops
  * (Rasmussen & Williams 2006, Eq 5.9): d/dtheta = tr(W dSigma/dtheta) with
  * W = (alpha alpha' - Sigma^-1) / 2,
  * so d/dr = -alpha, d/dK = a W, d/da = sum(W .* K), d/dbeta[k] =
- * sum(W .* S .* nd2[, k]), d/dlambda = -sum(W .* S) / lambda, d/dd = tr(W). */
+ * sum(W .* S .* nd2[, k]), d/dlambda = -sum(W .* S) / lambda, d/dd = tr(W)
+ * (lower_traces()). */
 template <typename TR, typename TK, typename TA, typename TD2, typename TB, typename TL,
           typename TJ>
 typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
@@ -143,31 +191,25 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
   const Eigen::MatrixXd& Kv = value_of(K);
   const double av = value_of(a);
   const double lambdav = value_of(lambda);
-  const Eigen::VectorXd log_s = nd2.leftCols(P) * value_of(beta);
-  const Eigen::MatrixXd S = Eigen::Map<const Eigen::MatrixXd>(log_s.data(), n, n)
-                                .array()
-                                .exp()
-                                .matrix() /
-                            lambdav;
-  Eigen::MatrixXd sigma = av * Kv + S;
+  const Eigen::MatrixXd S = sq_exp_lower(nd2, value_of(beta), lambdav, n);
+  // the lower triangle is all the factor reads; factor_sigma() fills both
+  Eigen::MatrixXd sigma(n, n);
+  sigma.triangularView<Eigen::Lower>() = av * Kv + S;
   sigma.diagonal().array() += value_of(d);
   Eigen::VectorXd alpha;
   const double log_det = factor_sigma(sigma, rv, alpha, lapack);
   const double lp = -0.5 * (n * std::log(2 * stan::math::pi()) + log_det + rv.dot(alpha));
 
   // sigma now holds Sigma^-1
-  const Eigen::MatrixXd W = 0.5 * (alpha * alpha.transpose() - sigma);
-  const Eigen::MatrixXd WS = W.cwiseProduct(S);
-  const Eigen::VectorXd d_beta =
-      nd2.leftCols(P).transpose() * Eigen::Map<const Eigen::VectorXd>(WS.data(), n * n);
+  const Traces t = lower_traces(alpha, sigma, Kv, S, nd2, P);
   std::vector<stan::math::var> ops;
   std::vector<double> grads;
   add_operands(ops, grads, r, -alpha);
-  add_operands(ops, grads, K, av * W);
-  add_operand(ops, grads, a, W.cwiseProduct(Kv).sum());
-  add_operands(ops, grads, beta, d_beta);
-  add_operand(ops, grads, lambda, -WS.sum() / lambdav);
-  add_operand(ops, grads, d, W.trace());
+  add_operands(ops, grads, K, 0.5 * av * (alpha * alpha.transpose() - sigma));
+  add_operand(ops, grads, a, t.wk);
+  add_operands(ops, grads, beta, t.d_beta);
+  add_operand(ops, grads, lambda, -t.ws / lambdav);
+  add_operand(ops, grads, d, t.w);
   return finish(lp, ops, grads, static_cast<result_t*>(nullptr));
 }
 
