@@ -106,70 +106,71 @@ inline stan::math::var finish(double lp, const std::vector<stan::math::var>& ops
   return stan::math::precomputed_gradients(lp, ops, grads);
 }
 
-/* The squared-exponential kernel S[i, j] = exp(sum_k beta[k] nd2[i + n j, k])
- * / lambda (nd2 from neg_sqdist(), its last column unused), lower triangle
- * and diagonal only: S is symmetric, and half the exponentials are half its
- * cost. Column j's entries i >= j are contiguous in each column of nd2. */
-inline Eigen::MatrixXd sq_exp_lower(const Eigen::MatrixXd& nd2, const Eigen::VectorXd& beta,
-                                    double lambda, Eigen::Index n) {
+/* The squared-exponential kernel
+ *   S[i, j] = exp(-sum_k beta[k] (x[i, k] - x[j, k])^2) / lambda
+ * (method Eq 2), lower triangle and diagonal only: S is symmetric, so half
+ * the exponentials are half its cost. The squared distances are formed from
+ * x as they are needed: reading them from an n^2 x p table (neg_sqdist())
+ * costs more in memory traffic than the subtractions do. */
+inline Eigen::MatrixXd sq_exp_lower(const Eigen::MatrixXd& x, const Eigen::VectorXd& beta,
+                                    double lambda) {
+  const Eigen::Index n = x.rows();
   Eigen::MatrixXd S(n, n);
   for (Eigen::Index j = 0; j < n; ++j) {
     const Eigen::Index m = n - j;
-    Eigen::VectorXd log_s = Eigen::VectorXd::Zero(m);
+    Eigen::ArrayXd log_s = Eigen::ArrayXd::Zero(m);
     for (Eigen::Index k = 0; k < beta.size(); ++k) {
-      log_s += beta(k) * nd2.col(k).segment(j * n + j, m);
+      log_s -= beta(k) * (x.col(k).tail(m).array() - x(j, k)).square();
     }
-    S.col(j).tail(m) = log_s.array().exp().matrix() / lambda;
+    S.col(j).tail(m) = log_s.exp().matrix() / lambda;
   }
   return S;
 }
 
 /* The traces the gradient needs, tr(W M) = sum(W .* M) for symmetric M, from
  * the lower triangles of W = (alpha alpha' - Sigma^-1) / 2, K and S, each
- * off-diagonal entry counted twice: sum(W .* K), sum(W .* S), tr(W) and, in
- * d_beta[k], sum(W .* S .* nd2[, k]), whose diagonal is zero (a point's
- * distance to itself). One pass, W never formed. */
+ * off-diagonal entry counted twice: sum(W .* K), sum(W .* S), tr(W) and
+ * d_beta[k] = -sum(W .* S .* D_k), D_k[i, j] = (x[i, k] - x[j, k])^2 (zero on
+ * the diagonal). One pass, W never formed. */
 struct Traces {
   double wk = 0, ws = 0, w = 0;
   Eigen::VectorXd d_beta;
 };
 inline Traces lower_traces(const Eigen::VectorXd& alpha, const Eigen::MatrixXd& sigma_inv,
                            const Eigen::MatrixXd& K, const Eigen::MatrixXd& S,
-                           const Eigen::MatrixXd& nd2, Eigen::Index P) {
+                           const Eigen::MatrixXd& x) {
   const Eigen::Index n = alpha.size();
   Traces t;
-  t.d_beta = Eigen::VectorXd::Zero(P);
+  t.d_beta = Eigen::VectorXd::Zero(x.cols());
   for (Eigen::Index j = 0; j < n; ++j) {
     const Eigen::Index m = n - j;
-    const Eigen::VectorXd w =
-        0.5 * (alpha(j) * alpha.tail(m) - sigma_inv.col(j).tail(m));
-    const Eigen::VectorXd ws = w.cwiseProduct(S.col(j).tail(m));
+    const Eigen::VectorXd w = 0.5 * (alpha(j) * alpha.tail(m) - sigma_inv.col(j).tail(m));
+    const Eigen::ArrayXd ws = w.cwiseProduct(S.col(j).tail(m)).array();
     t.wk += 2 * w.dot(K.col(j).tail(m)) - w(0) * K(j, j);
     t.ws += 2 * ws.sum() - ws(0);
     t.w += w(0);
-    for (Eigen::Index k = 0; k < P; ++k) {
-      t.d_beta(k) += 2 * ws.dot(nd2.col(k).segment(j * n + j, m));
+    for (Eigen::Index k = 0; k < x.cols(); ++k) {
+      t.d_beta(k) -= 2 * (ws * (x.col(k).tail(m).array() - x(j, k)).square()).sum();
     }
   }
   return t;
 }
 
 /* Log density of r ~ N(0, Sigma) with
- *   Sigma = a K + S + d I,  S from sq_exp_lower(),
- * the squared-exponential kernel (1 / lambda) exp(-sum_k beta[k] (u_ik - u_jk)^2)
- * (method Eq 2). One Cholesky factor of Sigma gives the value,
+ *   Sigma = a K + S + d I,  S the squared-exponential kernel of the rows of
+ * x (sq_exp_lower()). One Cholesky factor of Sigma gives the value,
  *   -0.5 (n log(2 pi) + log|Sigma| + r' alpha),  alpha = Sigma^-1 r,
  * and Sigma^-1 (factor_sigma(), by Eigen or by R's LAPACK as `lapack` says)
  * gives every partial derivative
  * (Rasmussen & Williams 2006, Eq 5.9): d/dtheta = tr(W dSigma/dtheta) with
  * W = (alpha alpha' - Sigma^-1) / 2,
  * so d/dr = -alpha, d/dK = a W, d/da = sum(W .* K), d/dbeta[k] =
- * sum(W .* S .* nd2[, k]), d/dlambda = -sum(W .* S) / lambda, d/dd = tr(W)
+ * -sum(W .* S .* D_k), d/dlambda = -sum(W .* S) / lambda, d/dd = tr(W)
  * (lower_traces()). */
-template <typename TR, typename TK, typename TA, typename TD2, typename TB, typename TL,
+template <typename TR, typename TK, typename TA, typename TX, typename TB, typename TL,
           typename TJ>
 typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
-    const TR& r_in, const TK& K_in, const TA& a, const TD2& nd2_in, const TB& beta_in,
+    const TR& r_in, const TK& K_in, const TA& a, const TX& x_in, const TB& beta_in,
     const TL& lambda, const TJ& d, bool lapack) {
   using stan::math::value_of;
   typedef typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type result_t;
@@ -178,21 +179,21 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
   const Eigen::Matrix<typename TR::Scalar, Eigen::Dynamic, 1>& r = r_in;
   const Eigen::Matrix<typename TK::Scalar, Eigen::Dynamic, Eigen::Dynamic>& K = K_in;
   const Eigen::Matrix<typename TB::Scalar, Eigen::Dynamic, 1>& beta = beta_in;
-  const Eigen::MatrixXd& nd2 = value_of(nd2_in);
+  const Eigen::MatrixXd& x = value_of(x_in);
   const Eigen::Index n = r.size();
   const Eigen::Index P = beta.size();
   stan::math::check_square("normal_two_kernels_lpdf", "K", K);
   stan::math::check_size_match("normal_two_kernels_lpdf", "rows of K", K.rows(), "size of r", n);
-  stan::math::check_size_match("normal_two_kernels_lpdf", "rows of nd2", nd2.rows(),
-                               "size of r squared", n * n);
-  stan::math::check_size_match("normal_two_kernels_lpdf", "columns of nd2", nd2.cols(),
-                               "size of beta plus 1", P + 1);
+  stan::math::check_size_match("normal_two_kernels_lpdf", "rows of x", x.rows(), "size of r", n);
+  stan::math::check_size_match("normal_two_kernels_lpdf", "columns of x", x.cols(),
+                               "size of beta", P);
   const Eigen::VectorXd rv = value_of(r);
   const Eigen::MatrixXd& Kv = value_of(K);
   const double av = value_of(a);
   const double lambdav = value_of(lambda);
-  const Eigen::MatrixXd S = sq_exp_lower(nd2, value_of(beta), lambdav, n);
-  // the lower triangle is all the factor reads; factor_sigma() fills both
+  const Eigen::MatrixXd S = sq_exp_lower(x, value_of(beta), lambdav);
+  // the factor reads the lower triangle only; factor_sigma() then overwrites
+  // sigma with the whole of Sigma^-1
   Eigen::MatrixXd sigma(n, n);
   sigma.triangularView<Eigen::Lower>() = av * Kv + S;
   sigma.diagonal().array() += value_of(d);
@@ -201,7 +202,7 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
   const double lp = -0.5 * (n * std::log(2 * stan::math::pi()) + log_det + rv.dot(alpha));
 
   // sigma now holds Sigma^-1
-  const Traces t = lower_traces(alpha, sigma, Kv, S, nd2, P);
+  const Traces t = lower_traces(alpha, sigma, Kv, S, x);
   std::vector<stan::math::var> ops;
   std::vector<double> grads;
   add_operands(ops, grads, r, -alpha);
@@ -217,11 +218,11 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
 
 // The Stan programs call normal_two_kernels_lpdf<propto>(..., pstream__) or,
 // under stanc2, without the template argument; both reach this definition.
-template <bool propto = false, typename TR, typename TK, typename TA, typename TD2,
+template <bool propto = false, typename TR, typename TK, typename TA, typename TX,
           typename TB, typename TL, typename TJ>
 typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type bayesbem_normal_two_kernels_lpdf(
-    const TR& r, const TK& K, const TA& a, const TD2& nd2, const TB& beta, const TL& lambda,
+    const TR& r, const TK& K, const TA& a, const TX& x, const TB& beta, const TL& lambda,
     const TJ& d, const int& lapack, std::ostream* pstream__) {
-  return bayesbem_cpp::normal_two_kernels(r, K, a, nd2, beta, lambda, d, lapack != 0);
+  return bayesbem_cpp::normal_two_kernels(r, K, a, x, beta, lambda, d, lapack != 0);
 }
 #define normal_two_kernels_lpdf bayesbem_normal_two_kernels_lpdf

@@ -21,7 +21,6 @@ data {
 }
 transformed data {
   matrix[n, p] xf = block(x_grid, 1, 1, n, p);
-  matrix[n * n, p + 1] nd2_ff = neg_sqdist(xf, xf);
   matrix[n_x * n_x, p + 1] nd2_xx = neg_sqdist(x_grid, x_grid);
   matrix[mt * mt, q + 1] nd2_tt = neg_sqdist(tc, tc);
   matrix[n_x, n_x] eq_xx = equal_rows(x_grid, x_grid);
@@ -51,7 +50,7 @@ model {
     target += normal_two_kernels_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef)
                                       - discrepancy_terms(h, gamma)
                                       - block(E, 1, 1, n, mt) * head(wc, mt)
-                                      | block(Kx, 1, 1, n, n), wc[mt + 1] / lambda_eta, nd2_ff,
+                                      | block(Kx, 1, 1, n, n), wc[mt + 1] / lambda_eta, xf,
                                       beta_delta, lambda_delta, 1 / lambda_e, lapack);
   }
 }

@@ -29,7 +29,6 @@ data {
   matrix[mt, mt] Lt;                     // Cholesky factor of the jittered run correlation
 }
 transformed data {
-  matrix[n * n, p + 1] nd2_ff = neg_sqdist(xf, xf);
   vector[1 + p + q] coef = mean_coefficients(b_select, b_fixed);
 }
 parameters {
@@ -52,7 +51,7 @@ model {
   target += normal_lpdf(gamma | 0, gamma_sd);
   target += normal_two_kernels_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef)
                                     - discrepancy_terms(h, gamma) - E_f * head(wc, mt)
-                                    | Kx_ff, wc[mt + 1] / lambda_eta_fixed, nd2_ff, beta_delta,
+                                    | Kx_ff, wc[mt + 1] / lambda_eta_fixed, xf, beta_delta,
                                     lambda_delta, 1 / lambda_e, lapack);
 }
 generated quantities {

@@ -86,12 +86,13 @@
   }
 
   /* Log density of r ~ N(0, a K + S + d I), S the squared-exponential
-   * kernel sq_exp_cov(nd2, beta, lambda, n, n) (method Eq 2). Defined in C++
+   * kernel of the rows of x, sq_exp_cov(neg_sqdist(x, x), beta, lambda, n, n)
+   * (method Eq 2). Defined in C++
    * with its analytic gradient (inst/include/normal_two_kernels.hpp): one
    * Cholesky factor and one inverse of the n x n covariance per gradient, by
    * R's LAPACK when lapack is 1, else by Eigen (R's use_lapack() chooses).
    * Only the model blocks call it (the C++ is visible there, not here). */
-  real normal_two_kernels_lpdf(vector r, matrix K, real a, matrix nd2, vector beta, real lambda,
+  real normal_two_kernels_lpdf(vector r, matrix K, real a, matrix x, vector beta, real lambda,
                                real d, int lapack);
 
   /* The field outputs given the runs on a grid (inst/notes/design.md, "Grid
