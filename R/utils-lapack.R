@@ -1,11 +1,11 @@
 # Which library factors the n x n field covariance in the grid and modular
 # Stan programs (normal_two_kernels_lpdf(), inst/include/normal_two_kernels.hpp):
 # R's LAPACK or Eigen. The factor and inverse are the largest part of a
-# gradient at large n (2.4 of about 5 ms at n = 365 on OpenBLAS). R's LAPACK
+# gradient at large n (2.4 of 3.3-4 ms at n = 365 on OpenBLAS). R's LAPACK
 # runs on the BLAS R is linked to: with an optimised one (OpenBLAS, MKL,
-# BLIS, ATLAS, Apple's Accelerate) the stage-2 gradient at n = 365 took
-# 5.2-5.4 ms against Eigen's 7.8-11; with the reference BLAS, which R ships
-# by default, 18.8 ms against 7.8 (bench/RESULTS.md). The choice is made
+# BLIS, ATLAS, Apple's Accelerate) the stage-2 gradient at n = 365 takes
+# 3.3-4 ms against Eigen's 5-8; with the reference BLAS, which R ships by
+# default, 13-17 ms against 5-8 (bench/RESULTS.md). The choice is made
 # from R's BLAS, not timed, so that a seeded fit is repeatable on a machine.
 # The option `bayesbem.lapack` (TRUE or FALSE) overrides it.
 use_lapack <- function(call = rlang::caller_env()) {

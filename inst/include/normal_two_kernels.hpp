@@ -2,8 +2,9 @@
 // and defined here with its analytic gradient. It is the cost of every
 // gradient of the grid and modular programs at large n: Stan's reverse mode
 // through a 365 x 365 Cholesky factor takes ~46 ms, the whole stage-2
-// gradient with this 5-10 ms with Eigen (the VM's speed varies by day) and
-// about 5 ms with R's LAPACK on OpenBLAS (bench/bench-gradient.R).
+// gradient with this 5-8 ms with Eigen (the VM's speed varies by day) and
+// 3.3-4 ms with R's LAPACK on OpenBLAS, 2.4 ms of it the factor and the
+// inverse (bench/bench-gradient.R, bench/RESULTS.md).
 //
 // This file is included by stan_meta_header.hpp inside each model's
 // namespace, after the functions the Stan code defines and before the model
