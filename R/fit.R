@@ -103,10 +103,10 @@
 #'   n x n covariance of the field outputs. They are computed by Eigen, or
 #'   by R's LAPACK when R is linked to an optimised BLAS (OpenBLAS, MKL,
 #'   BLIS, ATLAS or Apple's Accelerate, told by the name of
-#'   `extSoftVersion()[["BLAS"]]`): at 365 days, 3.3-4 ms per stage-2
-#'   gradient on OpenBLAS against 5-8 ms with Eigen and 13-17 ms with R's
-#'   reference BLAS, and a fit of a year of daily data in about half the
-#'   time (`bench/RESULTS.md`). To speed up such fits, link R to
+#'   `extSoftVersion()[["BLAS"]]`): at 365 days, 2.1 ms per stage-2
+#'   gradient on OpenBLAS against 4.3-5.1 ms with Eigen and 15-16 ms with
+#'   R's reference BLAS, and a fit of a year of daily data in 8-9 minutes
+#'   on 2 cores (`bench/RESULTS.md`). To speed up such fits, link R to
 #'   OpenBLAS, its serial build since the chains already share the cores
 #'   (on Debian or Ubuntu, `apt install libopenblas0-serial`).
 #'   `options(bayesbem.lapack = TRUE)` or `FALSE` overrides the choice, and

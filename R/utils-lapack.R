@@ -1,11 +1,11 @@
 # Which library factors the n x n field covariance in the grid and modular
 # Stan programs (normal_two_kernels_lpdf(), inst/include/normal_two_kernels.hpp):
 # R's LAPACK or Eigen. The factor and inverse are the largest part of a
-# gradient at large n (2.4 of 3.3-4 ms at n = 365 on OpenBLAS). R's LAPACK
+# gradient at large n (1.5 of 2.1 ms at n = 365 on OpenBLAS). R's LAPACK
 # runs on the BLAS R is linked to: with an optimised one (OpenBLAS, MKL,
 # BLIS, ATLAS, Apple's Accelerate) the stage-2 gradient at n = 365 takes
-# 3.3-4 ms against Eigen's 5-8; with the reference BLAS, which R ships by
-# default, 13-17 ms against 5-8 (bench/RESULTS.md). The choice is made
+# 2.1 ms against Eigen's 4.3-5.1; with the reference BLAS, which R ships by
+# default, 15-16 ms against Eigen's 4.5 (bench/RESULTS.md). The choice is made
 # from R's BLAS, not timed, so that a seeded fit is repeatable on a machine.
 # The option `bayesbem.lapack` (TRUE or FALSE) overrides it.
 use_lapack <- function(call = rlang::caller_env()) {

@@ -2,9 +2,9 @@
 // and defined here with its analytic gradient. It is the cost of every
 // gradient of the grid and modular programs at large n: Stan's reverse mode
 // through a 365 x 365 Cholesky factor takes ~46 ms, the whole stage-2
-// gradient with this 5-8 ms with Eigen (the VM's speed varies by day) and
-// 3.3-4 ms with R's LAPACK on OpenBLAS, 2.4 ms of it the factor and the
-// inverse (bench/bench-gradient.R, bench/RESULTS.md).
+// gradient with this 4.3-5.1 ms with Eigen (the VM's speed varies by day)
+// and 2.1 ms with R's LAPACK on OpenBLAS, about 1.5 ms of it the factor and
+// the inverse (bench/bench-gradient.R, bench/RESULTS.md).
 //
 // This file is included by stan_meta_header.hpp inside each model's
 // namespace, after the functions the Stan code defines and before the model
@@ -40,42 +40,58 @@ template <int R, int C, typename G>
 inline void add_operands(std::vector<stan::math::var>&, std::vector<double>&,
                          const Eigen::Matrix<double, R, C>&, const G&) {}
 
-/* Sigma^-1 from the lower Cholesky factor L of Sigma (only L's lower
- * triangle is read; LAPACK's dpotri by other means). L^-1 is lower
- * triangular, so each block of its columns is solved on the trailing rows
- * only, and Sigma^-1 = L^-T L^-1 is formed by blocks of its lower triangle,
- *   (L^-T L^-1)[j:, J] = L^-1[j:, j:]' L^-1[j:, J],
- * then mirrored: about 2 n^3 / 3 flops against 2 n^3 for LLT::solve() of
- * the identity (stage 2 at n = 365: 5.4 ms per gradient against 9.6 ms,
- * bench/bench-gradient.R). Stan Math's chol2inv() solves against the full
- * identity and forms each entry by its own dot product: 8.5 ms at n = 365
- * against 3 ms for this (the two pieces timed alone, -O2). */
-inline Eigen::MatrixXd inverse_from_cholesky(const Eigen::MatrixXd& L) {
-  const Eigen::Index n = L.rows();
-  const Eigen::Index block = 32;
-  Eigen::MatrixXd L_inv = Eigen::MatrixXd::Zero(n, n);
-  for (Eigen::Index j = 0; j < n; j += block) {
-    const Eigen::Index w = std::min(block, n - j);
-    const Eigen::Index m = n - j;
-    L_inv.block(j, j, w, w).setIdentity();
-    L.block(j, j, m, m).triangularView<Eigen::Lower>().solveInPlace(L_inv.block(j, j, m, w));
+// A block of a column-major matrix, for the recursions below.
+typedef Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<> > MatrixBlock;
+
+/* The lower triangle of a overwritten by its inverse, by halves (the
+ * recursive TRTRI of ReLAPACK: Peise & Bientinesi 2017, ACM TOMS 44(2);
+ * src/lapack_inverse.cpp does the same by BLAS calls):
+ *   [L11 0; L21 L22]^-1 = [L11^-1 0; -L22^-1 L21 L11^-1  L22^-1],
+ * so nearly all the flops are two triangular-by-full products per level. */
+inline void invert_lower(MatrixBlock a) {
+  const Eigen::Index n = a.rows();
+  if (n <= 16) {
+    Eigen::MatrixXd inv = Eigen::MatrixXd::Identity(n, n);
+    a.triangularView<Eigen::Lower>().solveInPlace(inv);
+    a.triangularView<Eigen::Lower>() = inv;
+    return;
   }
-  Eigen::MatrixXd inv(n, n);
-  for (Eigen::Index j = 0; j < n; j += block) {
-    const Eigen::Index w = std::min(block, n - j);
-    const Eigen::Index m = n - j;
-    inv.block(j, j, m, w).noalias() =
-        L_inv.block(j, j, m, m).transpose().triangularView<Eigen::Upper>() *
-        L_inv.block(j, j, m, w);
+  const Eigen::Index n1 = n / 2, n2 = n - n1;
+  invert_lower(a.topLeftCorner(n1, n1));
+  invert_lower(a.bottomRightCorner(n2, n2));
+  const Eigen::MatrixXd l21 =
+      a.bottomLeftCorner(n2, n1) * a.topLeftCorner(n1, n1).triangularView<Eigen::Lower>();
+  a.bottomLeftCorner(n2, n1).noalias() =
+      -(a.bottomRightCorner(n2, n2).triangularView<Eigen::Lower>() * l21);
+}
+
+/* The lower triangle of A' A for the lower triangular A in a, in place, by
+ * halves (what LAPACK's dlauum does):
+ *   A' A = [A11' A11 + A21' A21, (A22' A21)'; A22' A21, A22' A22]. */
+inline void lower_cross_product(MatrixBlock a) {
+  const Eigen::Index n = a.rows();
+  if (n <= 16) {
+    const Eigen::MatrixXd l = a.triangularView<Eigen::Lower>();
+    a.triangularView<Eigen::Lower>() = l.transpose() * l;
+    return;
   }
-  inv.triangularView<Eigen::StrictlyUpper>() = inv.transpose();
-  return inv;
+  const Eigen::Index n1 = n / 2, n2 = n - n1;
+  lower_cross_product(a.topLeftCorner(n1, n1));
+  a.topLeftCorner(n1, n1).selfadjointView<Eigen::Lower>().rankUpdate(
+      a.bottomLeftCorner(n2, n1).transpose());
+  const Eigen::MatrixXd a21 =
+      a.bottomRightCorner(n2, n2).triangularView<Eigen::Lower>().transpose() *
+      a.bottomLeftCorner(n2, n1);
+  a.bottomLeftCorner(n2, n1) = a21;
+  lower_cross_product(a.bottomRightCorner(n2, n2));
 }
 
 /* Factors Sigma once: returns log|Sigma|, sets alpha = Sigma^-1 r and
- * overwrites sigma with Sigma^-1. Eigen's LLT and inverse_from_cholesky(),
- * or with `lapack` R's LAPACK (dpotrf, dpotri), whichever is faster on the
- * BLAS R uses: R's use_lapack() (R/utils-lapack.R) chooses. */
+ * overwrites sigma with Sigma^-1: Sigma = L L', then L^-1 (invert_lower())
+ * and Sigma^-1 = L^-T L^-1 (lower_cross_product()), n^3 flops in all, by
+ * Eigen, or with `lapack` the same steps by R's LAPACK and BLAS (dpotrf,
+ * dtrmm, dlauum: src/lapack_inverse.cpp), whichever is faster on the BLAS
+ * R uses: R's use_lapack() (R/utils-lapack.R) chooses. */
 inline double factor_sigma(Eigen::MatrixXd& sigma, const Eigen::VectorXd& r,
                            Eigen::VectorXd& alpha, bool lapack) {
   const char* not_pd = "normal_two_kernels_lpdf: the covariance is not positive definite";
@@ -88,13 +104,17 @@ inline double factor_sigma(Eigen::MatrixXd& sigma, const Eigen::VectorXd& r,
     alpha = sigma * r;
     return log_det;
   }
-  const Eigen::LLT<Eigen::MatrixXd> llt(sigma);
+  // factored in place: sigma's lower triangle becomes L
+  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd> > llt(sigma);
   if (llt.info() != Eigen::Success) {
     throw std::domain_error(not_pd);
   }
   alpha = llt.solve(r);
-  sigma = inverse_from_cholesky(llt.matrixLLT());
-  return 2 * llt.matrixLLT().diagonal().array().log().sum();
+  const double log_det = 2 * sigma.diagonal().array().log().sum();
+  invert_lower(sigma);
+  lower_cross_product(sigma);
+  sigma.triangularView<Eigen::StrictlyUpper>() = sigma.transpose();
+  return log_det;
 }
 
 // The log density as a double, or as a var holding its partial derivatives.

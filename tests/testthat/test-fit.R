@@ -124,8 +124,9 @@ expect_gradient_matches <- function(d) {
 
 # The field density of the grid and modular programs has a hand-written
 # gradient (inst/include/normal_two_kernels.hpp); Stan's gradient must equal
-# central finite differences of Stan's own log density. n = 70 spans three
-# blocks of its inverse of Sigma (inverse_from_cholesky(), blocks of 32).
+# central finite differences of Stan's own log density. At n = 70 the inverse
+# of Sigma recurses three times, into unequal halves (invert_lower(), halves
+# down to 16 rows).
 test_that("the grid and modular gradients equal finite differences", {
   skip_on_cran()
   withr::local_seed(12)
