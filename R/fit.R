@@ -109,6 +109,7 @@
 #'   on 2 cores (`bench/RESULTS.md`). To speed up such fits, link R to
 #'   OpenBLAS, its serial build since the chains already share the cores
 #'   (on Debian or Ubuntu, `apt install libopenblas0-serial`).
+#'   A fit of more than 120 field rows on Eigen says so, once per session.
 #'   `options(bayesbem.lapack = TRUE)` or `FALSE` overrides the choice, and
 #'   `fit$settings$lapack` records it: the two give the same log density to
 #'   rounding, but a seeded fit repeats exactly only with the same choice.
@@ -160,6 +161,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                    "argument")
   }
   minor_modes <- match_choice(minor_modes)
+  inform_blas(data$n, lapack, modular || structure == "grid")
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                   cores = min(cores, chains), control = control, args = list(...),

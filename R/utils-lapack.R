@@ -26,3 +26,21 @@ use_lapack <- function(call = rlang::caller_env()) {
 optimised_blas <- function(blas) {
   grepl("openblas|mkl|blis|atlas|accelerate|veclib", blas, ignore.case = TRUE)
 }
+
+# Tells once per session, when a fit with a large field covariance (the grid
+# and modular programs at more than 120 field rows) runs on Eigen because
+# R's BLAS is not a known optimised one (optimised_blas()), that an
+# optimised BLAS would more than halve each gradient (365 days: 4.3-5.1 ms
+# against 2.1 on OpenBLAS, bench/RESULTS.md). Silent when the user chose
+# the path with the option `bayesbem.lapack`.
+inform_blas <- function(n, lapack, field_density) {
+  if (lapack || !field_density || n <= 120 ||
+      !identical(getOption("bayesbem.lapack", "auto"), "auto")) {
+    return(invisible())
+  }
+  blas <- extSoftVersion()[["BLAS"]]
+  cli::cli_inform(c(i = "{n} field rows: each gradient factors a {n} x {n} matrix, here by Eigen, since R's BLAS ({.path {blas}}) is not a known optimised one.",
+                    " " = "With R linked to OpenBLAS (on Debian or Ubuntu, {.code apt install libopenblas0-serial}) it runs on R's LAPACK in less than half the time; see {.code ?calibrate}, \"Linear algebra\"."),
+                  class = "bayesbem_message_blas", .frequency = "once",
+                  .frequency_id = "bayesbem_blas")
+}

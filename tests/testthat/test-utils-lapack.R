@@ -29,3 +29,17 @@ test_that("a wrong bayesbem.lapack is a classed error before any sampling", {
   expect_error(calibrate(seb_field, seb_sim), class = "bayesbem_error_option")
   expect_snapshot(calibrate(seb_field, seb_sim), error = TRUE)
 })
+
+test_that("a large fit on Eigen says once that an optimised BLAS would be faster", {
+  withr::local_options(bayesbem.lapack = NULL)
+  rlang::reset_message_verbosity("bayesbem_blas")
+  withr::defer(rlang::reset_message_verbosity("bayesbem_blas"))
+  expect_silent(bayesbem:::inform_blas(365, lapack = TRUE, field_density = TRUE))
+  expect_silent(bayesbem:::inform_blas(120, lapack = FALSE, field_density = TRUE))
+  expect_silent(bayesbem:::inform_blas(365, lapack = FALSE, field_density = FALSE))
+  withr::with_options(list(bayesbem.lapack = FALSE),
+                      expect_silent(bayesbem:::inform_blas(365, lapack = FALSE, field_density = TRUE)))
+  expect_message(bayesbem:::inform_blas(365, lapack = FALSE, field_density = TRUE),
+                 "365 x 365", class = "bayesbem_message_blas")
+  expect_silent(bayesbem:::inform_blas(365, lapack = FALSE, field_density = TRUE))
+})
