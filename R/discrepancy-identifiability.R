@@ -96,33 +96,17 @@ moved_by_discrepancy <- function(fit, posterior_sd) {
   (mean_tf(fit) - mean_tf(without)) / posterior_sd
 }
 
-# For one draw: the simulator's sensitivity to each parameter at the field
-# rows (central differences of the emulator mean given the runs, step 0.01 on
-# the scaled scale, kept inside [0, 1]), and the discrepancy's projection on
-# it (in scaled parameter units) and correlation with it.
-discrepancy_projection <- function(g, par, data, h = 0.01) {
+# For one draw: the discrepancy's projection on the simulator's sensitivity
+# to each parameter at the field rows (runs_sensitivity(); in scaled
+# parameter units) and its correlation with it.
+discrepancy_projection <- function(g, par, data) {
   n <- data$n
   cond <- koh_conditional(g, par)
   delta <- cond$mean[n + seq_len(n)]
   if (ncol(g$h) > 0L) delta <- delta + drop(g$h %*% par$gamma)
-  q <- length(par$tf)
-  result <- vapply(seq_len(q), function(k) {
-    up <- par$tf
-    down <- par$tf
-    up[k] <- min(up[k] + h, 1)
-    down[k] <- max(down[k] - h, 0)
-    s <- (runs_mean(g, par, up) - runs_mean(g, par, down)) / (up[k] - down[k])
-    c(sum(s * delta) / sum(s^2), abs(stats::cor(s, delta)))
-  }, numeric(2))
-  list(shift = result[1, ], alignment = result[2, ])
-}
-
-# The emulator's mean at the field rows given the simulation runs alone, at
-# the parameters `tf` (scaled).
-runs_mean <- function(g, par, tf) {
-  par$tf <- tf
-  fm <- field_given_runs(residual_geometry(g, par), par)
-  fm$mean + emulator_mean(g$xf, tf, par$coef)
+  s <- runs_sensitivity(g, par)
+  list(shift = drop(crossprod(s, delta)) / colSums(s^2),
+       alignment = abs(drop(stats::cor(s, delta))))
 }
 
 # The sd of a prior on the scaled [0, 1] scale: uniform, or a normal (mean

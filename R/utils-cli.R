@@ -111,6 +111,11 @@ cat_lines <- function(..., .envir = parent.frame()) {
   cat(lines, sep = "\n")
 }
 
+# "a", "a and b", "a, b and c".
+and_list <- function(x) {
+  if (length(x) < 2L) x else paste(paste(x[-length(x)], collapse = ", "), "and", x[length(x)])
+}
+
 # Prints a data frame without row names, doubles rounded to `digits`
 # significant digits.
 print_rounded <- function(df, digits) {

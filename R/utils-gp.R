@@ -229,6 +229,27 @@ field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
        cov = sigma[f, f] - crossprod(a))
 }
 
+# The emulator's mean at the field rows given the simulation runs alone, at
+# the parameters `tf` (scaled).
+runs_mean <- function(g, par, tf) {
+  par$tf <- tf
+  fm <- field_given_runs(residual_geometry(g, par), par)
+  fm$mean + emulator_mean(g$xf, tf, par$coef)
+}
+
+# The simulator's sensitivity to each parameter at the field rows, d eta /
+# d tf (field rows by parameters): central differences of runs_mean(), step
+# h on the scaled scale, kept inside [0, 1].
+runs_sensitivity <- function(g, par, h = 0.01) {
+  vapply(seq_along(par$tf), function(k) {
+    up <- par$tf
+    down <- par$tf
+    up[k] <- min(up[k] + h, 1)
+    down[k] <- max(down[k] - h, 0)
+    (runs_mean(g, par, up) - runs_mean(g, par, down)) / (up[k] - down[k])
+  }, numeric(g$n))
+}
+
 # Grid design, in two steps: given the runs E at the grid inputs X, the
 # emulator at rows u, v at tf has mean kx(u, X) Kx^-1 E w and covariance
 # ((1 + a) kx(u, v) - s kx(u, X) Kx^-1 kx(X, v)) / lambda_eta (see

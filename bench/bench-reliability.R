@@ -18,8 +18,12 @@
 # hyperparameters), median wall time, the worst R-hat's variable, the mean
 # leapfrog steps per sampling and per warm-up iteration and the chains'
 # summed seconds (stage 2 of a modular fit), how many of a modular fit's 16
-# stage-1 searches reached the emulator's mode (`stage1_found`), and the
-# parameters put on a log or reciprocal scale.
+# stage-1 searches reached the emulator's mode (`stage1_found`), the
+# parameters put on a log or reciprocal scale, and the check of the
+# emulator by validate_emulator() on the problem's simulator at 20 draws:
+# each parameter's `shift` and the posterior mean's distance from the truth
+# (`bias_sd`), both in posterior sds, the verdict (`emulator_trusted`), and
+# the coverage of the fits it trusted (`coverage_trusted`).
 # With BENCH_REFINE=r (r > 0) each problem is then refined once, as the
 # verdict of validate_emulator() advises: r runs from design_posterior() on
 # the first fit, added to the mt runs, and a second fit, reported as size
@@ -52,7 +56,7 @@ fit_problem <- function(problem, runs, k) {
 one_problem <- function(n, mt, k) {
   problem <- bayesbem:::synthetic_problem(n, mt, k)
   wall <- system.time(fit <- fit_problem(problem, problem$runs, k))[["elapsed"]]
-  first <- evaluate(fit, problem$truth, n, mt, k, wall)
+  first <- evaluate(fit, problem, n, mt, k, wall)
   if (refine == 0L) {
     return(first)
   }
@@ -60,7 +64,7 @@ one_problem <- function(n, mt, k) {
     added <- simulate_design(problem$simulator, design_posterior(fit, refine, seed = 5000 + k))
     refit <- fit_problem(problem, rbind(problem$runs, added), k)
   })[["elapsed"]]
-  rbind(first, evaluate(refit, problem$truth, n, mt + refine, k, wall + wall2))
+  rbind(first, evaluate(refit, problem, n, mt + refine, k, wall + wall2))
 }
 
 # Mean leapfrog steps per iteration of the fit's (stage-2) chains, in
@@ -75,7 +79,8 @@ leapfrog_steps <- function(fit, phase) {
   round(mean(unlist(steps)), 1)
 }
 
-evaluate <- function(fit, truth, n, mt, k, wall) {
+evaluate <- function(fit, problem, n, mt, k, wall) {
+  truth <- problem$truth
   conv <- check_convergence(fit, warn = FALSE)
   sampler <- attr(conv, "sampler")
   draws <- bayesbem:::parameter_draws(fit)
@@ -84,6 +89,7 @@ evaluate <- function(fit, truth, n, mt, k, wall) {
     truth[[p]] >= q[1] && truth[[p]] <= q[2]
   }, logical(1))
   worst <- which.max(conv$rhat)
+  check <- validate_emulator(fit, problem$simulator, ndraws = 20)
   # the R-hat and ESS rule over the table's rows `rows`
   passes <- function(rows) all(conv$rhat[rows] < 1.01 & pmin(conv$ess_bulk, conv$ess_tail)[rows] >= 400)
   data.frame(n = n, mt = mt, problem = k,
@@ -108,6 +114,13 @@ evaluate <- function(fit, truth, n, mt, k, wall) {
                             collapse = " "),
              covered = sum(covered),
              missed = paste(names(truth)[!covered], collapse = " "),
+             # how far each parameter's posterior mean lies from the truth,
+             # and how far validate_emulator() says the emulator's error
+             # moved it (both in posterior sds), and its verdict
+             bias_sd = paste(sprintf("%.2f", (colMeans(draws) - unlist(truth)) /
+                                       apply(draws, 2, stats::sd)), collapse = " "),
+             shift = paste(sprintf("%.2f", check$shift$shift), collapse = " "),
+             emulator_trusted = check$trusted,
              parameters = length(covered), wall_s = wall)
 }
 
@@ -134,6 +147,9 @@ summary <- do.call(rbind, lapply(split(all, list(all$n, all$mt), drop = TRUE), f
              converged = sprintf("%d/%d", sum(d$converged), nrow(d)),
              tf_converged = sprintf("%d/%d", sum(d$tf_converged), nrow(d)),
              coverage_90 = sprintf("%d/%d", sum(d$covered), sum(d$parameters)),
+             emulator_trusted = sprintf("%d/%d", sum(d$emulator_trusted), nrow(d)),
+             coverage_trusted = sprintf("%d/%d", sum(d$covered[d$emulator_trusted]),
+                                        sum(d$parameters[d$emulator_trusted])),
              median_wall_s = round(stats::median(d$wall_s)),
              max_rhat = round(max(d$max_rhat), 3))
 }))

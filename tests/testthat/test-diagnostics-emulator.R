@@ -18,6 +18,10 @@ test_that("the emulator of a fit on the right simulator passes the closed loop",
   expect_equal(nrow(check$periods), 36)
   expect_equal(check$coverage, mean(check$table$simulated >= check$table$lower &
                                       check$table$simulated <= check$table$upper))
+  # the right simulator's outputs barely move the calibration
+  expect_equal(check$shift$parameter, names(synthetic_truth))
+  expect_equal(dim(attr(check$shift, "draws")), c(8, 2))
+  expect_true(all(abs(check$shift$shift) < 0.5))
   # the real simulator's output distribution at the posterior
   ps <- posterior_simulate(case$base, sim, ndraws = 8)
   expect_equal(ps$mean, colMeans(matrix(check$table$simulated, nrow = 8, byrow = TRUE)))
@@ -34,6 +38,38 @@ test_that("a simulator other than the fit's is exposed, with the reason", {
   expect_s3_class(plot(check), "ggplot")
   d <- plot_emulator_check_data(check)
   expect_true(all(abs(d$position - d$period) <= 0.3 + 1e-12))
+})
+
+test_that("the calibration shift is the step to where the simulator's outputs fit best", {
+  # outputs that are the emulator's at tf + d: the likelihood given the runs
+  # peaks at tf + d, so the shift is d (to second order in d and in the
+  # sensitivity's finite differences), on the grid and the dense algebra
+  data <- seb_fit$data
+  par <- bayesbem:::draw_parameters(seb_fit, 5)[[3]]
+  d <- c(0.004, -0.003, 0.002)
+  for (structure in c("grid", "dense")) {
+    g <- bayesbem:::gp_geometry(data, NULL, structure)
+    s <- bayesbem:::runs_mean(g, par, par$tf + d)
+    expect_equal(bayesbem:::emulator_shift(g, par, s), d, tolerance = 0.05)
+  }
+})
+
+test_that("an emulator whose error moves a parameter is not trusted, and the verdict names it", {
+  case <- synthetic_case("none")
+  sim <- synthetic_simulator()
+  # the simulator's outputs at equipment density 2 posterior sds higher:
+  # the emulator's error is then the parameter's effect
+  sd_equipment <- stats::sd(bayesbem:::parameter_draws(case$base)[, "equipment_power_density"])
+  offset <- simulator(function(params, x) {
+    params$equipment_power_density <- params$equipment_power_density + 2 * sd_equipment
+    sim$fun(params, x)
+  }, sim$x, sim$parameters)
+  check <- validate_emulator(case$base, offset, ndraws = 8)
+  expect_false(check$trusted)
+  expect_equal(check$shift$shift[1], 2, tolerance = 0.15)
+  expect_lt(abs(check$shift$shift[2]), 0.5)
+  expect_match(check$verdict, "moves equipment_power_density by 1.[89]")
+  expect_output(print(check), "Shift of the calibration")
 })
 
 test_that("validate_emulator() checks its inputs", {
