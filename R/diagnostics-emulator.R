@@ -18,8 +18,9 @@
 #' `J = dm/dt` by central differences). `shift` is the median of `Delta` over
 #' the draws in posterior sds of each parameter. An error small at every
 #' period can still move the calibration when it is alike over many periods:
-#' with a year of daily data the posterior is narrow enough for an emulator
-#' error of a fifth of the noise to move it by two posterior sds.
+#' with a year of daily data and 30 runs, emulator errors below the noise
+#' moved the calibration by about two posterior sds at a typical point
+#' (`bench/RESULTS.md`).
 #'
 #' The verdict: the emulator can be trusted for this posterior when at least
 #' `level - 0.1` of the simulator's outputs lie in the emulator's intervals,
@@ -291,7 +292,8 @@ print.koh_emulator_check <- function(x, ...) {
   rlang::check_dots_empty()
   cat(strwrap(x$verdict), sep = "\n")
   cat("\nShift of the calibration by the emulator's error (posterior sd):\n")
-  print_rounded(x$shift, 2)
+  print(data.frame(parameter = x$shift$parameter, shift = round(x$shift$shift, 2)),
+        row.names = FALSE)
   cat("\nPer period:\n")
   print_rounded(x$periods, 3)
   invisible(x)

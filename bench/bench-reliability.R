@@ -22,8 +22,9 @@
 # parameters put on a log or reciprocal scale, and the check of the
 # emulator by validate_emulator() on the problem's simulator at 20 draws:
 # each parameter's `shift` and the posterior mean's distance from the truth
-# (`bias_sd`), both in posterior sds, the verdict (`emulator_trusted`), and
-# the coverage of the fits it trusted (`coverage_trusted`).
+# (`bias_sd`), both in posterior sds, the verdict (`emulator_trusted`), its
+# per-period part (`emulator_coverage`, `rmse_over_noise`), and the coverage
+# of the fits it trusted (`coverage_trusted`).
 # With BENCH_REFINE=r (r > 0) each problem is then refined once, as the
 # verdict of validate_emulator() advises: r runs from design_posterior() on
 # the first fit, added to the mt runs, and a second fit, reported as size
@@ -121,6 +122,10 @@ evaluate <- function(fit, problem, n, mt, k, wall) {
                                        apply(draws, 2, stats::sd)), collapse = " "),
              shift = paste(sprintf("%.2f", check$shift$shift), collapse = " "),
              emulator_trusted = check$trusted,
+             # the verdict's per-period part: the share of the simulator's
+             # outputs inside the emulator's 90 % intervals, RMSE / noise sd
+             emulator_coverage = round(check$coverage, 2),
+             rmse_over_noise = round(check$rmse / check$noise_sd, 2),
              parameters = length(covered), wall_s = wall)
 }
 
