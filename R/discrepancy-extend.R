@@ -69,14 +69,14 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
 # replaces any argument of calibrate().
 refit <- function(fit, ...) {
   settings <- fit$settings
-  args <- utils::modifyList(
-    list(field = fit$data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
-         warmup = settings$warmup, seed = settings$seed, control = settings$control,
-         structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
-         minor_modes = settings$minor_modes %||% "keep",
-         covariates = fit$data$covariates),
-    list(...)
-  )
+  args <- list(field = fit$data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
+               warmup = settings$warmup, seed = settings$seed, control = settings$control,
+               structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
+               minor_modes = settings$minor_modes %||% "keep",
+               covariates = fit$data$covariates)
+  # replaced whole, not merged: a new koh_data or priors is a list too
+  changes <- list(...)
+  args[names(changes)] <- changes
   do.call(calibrate, args)
 }
 
