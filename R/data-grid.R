@@ -49,6 +49,10 @@ grid_runs <- function(data) {
   matrix(data$eta[data$grid$index], data$grid$n_x)
 }
 
+# Keys of a table's rows to 6 significant digits: the periods of a simulator
+# and of a fit match by value, whatever rounding their inputs went through.
+value_keys <- function(x) row_keys(signif(as.matrix(x), 6))
+
 # Exact keys of matrix rows (hexadecimal doubles), so that rows match only
 # when every value is identical, as Stan's equal_rows() requires.
 row_keys <- function(x) {

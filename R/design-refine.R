@@ -59,13 +59,13 @@ refine_emulator <- function(fit, simulator, n = 10, rounds = 3, ndraws = 20, lev
   if (!is.null(seed)) check_count(seed)
   checks <- list(validate_emulator(fit, simulator, ndraws, level, cache_dir))
   run_counts <- run_count(fit$data)
-  round <- 0L
-  while (!checks[[length(checks)]]$trusted && round < rounds) {
-    round <- round + 1L
-    design <- design_posterior(fit, n, level, seed = if (!is.null(seed)) seed + round - 1L)
+  done <- 0L
+  while (!checks[[length(checks)]]$trusted && done < rounds) {
+    done <- done + 1L
+    design <- design_posterior(fit, n, level, seed = if (!is.null(seed)) seed + done - 1L)
     added <- simulate_design(simulator, design, cache_dir = cache_dir)
     runs <- rbind(fit$data$sim, refinement_runs(fit$data, added))
-    cli::cli_inform(c(i = "Round {round}: {nrow(design)} run{?s} where the posterior lies; calibrating again on {nrow(runs)} simulation rows."),
+    cli::cli_inform(c(i = "Round {done}: {nrow(design)} run{?s} where the posterior lies; calibrating again on {nrow(runs)} simulation rows."),
                     class = "bayesbem_message_refine")
     names <- fit$data$names
     data <- koh_data(field_table(fit$data), runs, y = names$y, eta = names$eta, t = names$t,
@@ -76,7 +76,7 @@ refine_emulator <- function(fit, simulator, n = 10, rounds = 3, ndraws = 20, lev
   }
   last <- checks[[length(checks)]]
   if (!last$trusted) {
-    warn_bayesbem(c("After {round} round{?s} of refinement the emulator still cannot be trusted for the posterior.",
+    warn_bayesbem(c("After {done} round{?s} of refinement the emulator still cannot be trusted for the posterior.",
                     i = last$verdict,
                     i = "Refine again, e.g. {.code refine_emulator(fit, simulator, rounds = 2)}, or add runs over a wider region with {.fn design_lhs}."),
                   "emulator")
@@ -95,7 +95,7 @@ refinement_runs <- function(data, added, call = rlang::caller_env()) {
                      i = "Use the simulator whose runs the fit was calibrated on."),
                    "simulator", call = call)
   }
-  key <- function(x) row_keys(signif(as.matrix(x[data$names$x_sim]), 6))
+  key <- function(x) value_keys(x[data$names$x_sim])
   periods <- unique(key(data$sim))
   lacking <- setdiff(periods, key(added))
   if (length(lacking) > 0L) {

@@ -201,8 +201,7 @@ simulator_rows <- function(fit, simulator, call) {
                    "simulator", call = call)
   }
   field <- field_inputs(data)[data$names$x]
-  key <- function(x) row_keys(signif(as.matrix(x[data$names$x]), 6))
-  rows <- match(key(field), key(simulator$x))
+  rows <- match(value_keys(field), value_keys(simulator$x[data$names$x]))
   if (anyNA(rows) && nrow(simulator$x) == nrow(field)) {
     # as many periods as the fit: taken in order, the differences reported
     spread <- vapply(data$names$x, function(v) diff(range(field[[v]])), numeric(1))
