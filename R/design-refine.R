@@ -16,6 +16,14 @@
 #' region make the emulator right where the calibration reads it; each round
 #' may move the posterior, hence the loop.
 #'
+#' What it cannot mend: the runs go where the posterior is, so an emulator
+#' wrong where the truth lies is not corrected there. At 365 days x 30 runs
+#' a posterior held three to five sds along the fan / equipment ridge from
+#' the truth stayed there after a round of ten runs, and the check then
+#' trusted the emulator (`bench/RESULTS.md`). Where parameters trade off
+#' (see [identifiability()]), add runs over the whole ridge as well, e.g.
+#' with [design_lhs()] over the prior ranges.
+#'
 #' The added runs keep the simulation periods of the fit's runs (matched by
 #' the observable inputs' values): a simulator over more periods serves, one
 #' that lacks some of them is an error (class `bayesbem_error_simulator`).
