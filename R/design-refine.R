@@ -51,11 +51,13 @@
 #' \donttest{
 #' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 #' top <- sim$parameters[sim$parameters$parameter %in%
-#'                         c("equipment_power_density", "fan_total_efficiency"), ]
-#' runs <- simulate_design(sim, design_lhs(top, n = 20, seed = 1))
+#'                         c("equipment_power_density", "fan_total_efficiency",
+#'                           "infiltration_per_exterior_area"), ]
+#' # ten runs for three parameters: too few where the posterior lies
+#' runs <- simulate_design(sim, design_lhs(top, n = 10, seed = 2))
 #' field <- data.frame(y = seb_field$y, sim$x)
-#' fit <- calibrate(field, runs, chains = 2, iter = 1000, seed = 2, refresh = 0)
-#' fit <- refine_emulator(fit, sim, n = 10, rounds = 2, seed = 3)
+#' fit <- calibrate(field, runs, chains = 2, iter = 2000, seed = 7, refresh = 0)
+#' fit <- refine_emulator(fit, sim, n = 6, rounds = 2, ndraws = 10, seed = 1)
 #' fit$refinement
 #' }
 refine_emulator <- function(fit, simulator, n = 10, rounds = 3, ndraws = 20, level = 0.9,
