@@ -137,8 +137,8 @@ calibration_shift <- function(fit, g, runs) {
 # Delta is the emulator's error seen through the calibration: small beside
 # the posterior's spread, the emulator cannot have moved the posterior.
 emulator_shift <- function(g, par, s) {
-  fm <- field_given_runs(residual_geometry(g, par), par)
-  error <- s - fm$mean - emulator_mean(g$xf, par$tf, par$coef)
+  fm <- runs_field(g, par)
+  error <- s - fm$mean
   r <- chol(fm$cov)
   wj <- backsolve(r, runs_sensitivity(g, par), transpose = TRUE)
   we <- backsolve(r, error, transpose = TRUE)

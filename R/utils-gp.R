@@ -229,12 +229,20 @@ field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
        cov = sigma[f, f] - crossprod(a))
 }
 
+# The field outputs given the simulation runs alone, at the draw's tf:
+# field_given_runs() with the emulator mean h(x, tf)' b added back, so that
+# `mean` is the emulator's mean at the field rows.
+runs_field <- function(g, par) {
+  fm <- field_given_runs(residual_geometry(g, par), par)
+  fm$mean <- fm$mean + emulator_mean(g$xf, par$tf, par$coef)
+  fm
+}
+
 # The emulator's mean at the field rows given the simulation runs alone, at
 # the parameters `tf` (scaled).
 runs_mean <- function(g, par, tf) {
   par$tf <- tf
-  fm <- field_given_runs(residual_geometry(g, par), par)
-  fm$mean + emulator_mean(g$xf, tf, par$coef)
+  runs_field(g, par)$mean
 }
 
 # The simulator's sensitivity to each parameter at the field rows, d eta /

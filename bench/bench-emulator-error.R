@@ -55,11 +55,11 @@ at_point <- function(em, tv) {
   names_t <- em$data$names$t
   par <- em$par
   par$tf <- drop(ns$scale_t(matrix(tv, 1, dimnames = list(NULL, names_t)), em$data$scaling))
-  fm <- ns$field_given_runs(ns$residual_geometry(em$g, par), par)
+  fm <- ns$runs_field(em$g, par)
   sim <- attr(ns$simulate_field(em$problem$simulator, as.list(stats::setNames(tv, names_t))),
               "simulated")
   s <- (sim - em$data$scaling$y_center) / em$data$scaling$y_scale
-  list(e = s - fm$mean - ns$emulator_mean(em$data$xf, par$tf, par$coef),
+  list(e = s - fm$mean,
        J = ns$runs_sensitivity(em$g, par), S = fm$cov)
 }
 
