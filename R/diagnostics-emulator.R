@@ -94,7 +94,7 @@ validate_emulator <- function(fit, simulator, ndraws = 20, level = 0.9, cache_di
   runs <- posterior_runs(fit, simulator, ndraws, cache_dir)
   data <- fit$data
   x <- field_inputs(data)[data$names$x]
-  g <- gp_geometry(data, scale_newdata(data, x), fit_structure(fit))
+  g <- gp_geometry(data, scale_newdata(data, x), fit_structure(fit), fit$emulator$basis)
   n <- nrow(x)
   z <- stats::qnorm(1 - (1 - level) / 2)
   rows <- lapply(seq_along(runs$draws), function(i) {

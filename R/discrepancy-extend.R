@@ -72,6 +72,7 @@ refit <- function(fit, ...) {
   args <- list(field = fit$data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
                warmup = settings$warmup, seed = settings$seed, control = settings$control,
                structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
+               emulator = if (isTRUE(settings$modular)) settings$emulator %||% "separable" else "auto",
                minor_modes = settings$minor_modes %||% "keep",
                covariates = fit$data$covariates)
   # replaced whole, not merged: a new koh_data or priors is a list too

@@ -56,7 +56,7 @@ identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
   check_bool(refit)
   data <- fit$data
   g <- gp_geometry(data, scale_newdata(data, field_inputs(data)[data$names$x]),
-                   fit_structure(fit))
+                   fit_structure(fit), fit$emulator$basis)
   draws <- draw_parameters(fit, ndraws)
   per_draw <- lapply(draws, function(par) discrepancy_projection(g, par, data))
   shift <- do.call(rbind, lapply(per_draw, `[[`, "shift"))

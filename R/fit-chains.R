@@ -185,7 +185,8 @@ restart_inits <- function(fit, n) {
 }
 
 # The names in the parameters blocks of the package's Stan programs
-# (koh_parameters.stan, koh_emulator.stan, koh_modular.stan, koh.stan), by
+# (koh_parameters.stan, koh_emulator.stan, koh_modular.stan, koh_basis.stan,
+# koh.stan), by
 # Stan's transform to the unconstrained scale: logit for the (0, 1)
 # parameters, log for the precisions, none for the rest.
 parameter_block <- function() {

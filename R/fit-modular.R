@@ -100,9 +100,21 @@ emulator_searches_label <- function(searches) {
   sprintf("%d of %d searches reached it", searches_at_mode(searches), length(searches))
 }
 
-# The data of koh_modular.stan: the field data, the priors, and the fixed
-# emulator's pieces (the runs at the field inputs less the emulator mean,
-# the field block of Kx, the Cholesky factor of Kt).
+# The data every stage-2 program takes: the field data, the priors and the
+# separable stage-1 emulator (which koh_basis.stan passes through for
+# predictions).
+stage2_stan_data <- function(data, priors, emulator) {
+  c(list(n = data$n, mt = data$grid$mt, p = data$p, q = data$q, y = data$y,
+         xf = data$grid$x[seq_len(data$n), , drop = FALSE], tc = data$grid$design,
+         lapack = as.integer(use_lapack())),
+    koh_prior_data(data, priors),
+    list(beta_eta_fixed = as.array(emulator$beta_eta), lambda_eta_fixed = emulator$lambda_eta,
+         b_fixed = as.array(emulator$b)))
+}
+
+# The data of koh_modular.stan: stage2_stan_data() and the fixed emulator's
+# pieces (the runs at the field inputs less the emulator mean, the field
+# block of Kx, the Cholesky factor of Kt).
 modular_stan_data <- function(data, priors, emulator) {
   grid <- data$grid
   n <- data$n
@@ -114,11 +126,8 @@ modular_stan_data <- function(data, priors, emulator) {
   beta_t <- emulator$beta_eta[-seq_len(p)]
   E <- grid_runs(data)[seq_len(n), , drop = FALSE]
   kt <- jittered_cor(pair_geometry(grid$design, grid$design), beta_t, priors$nugget)
-  c(list(n = n, mt = grid$mt, p = p, q = data$q, y = data$y, xf = xf, tc = grid$design,
-         lapack = as.integer(use_lapack())),
-    koh_prior_data(data, priors),
-    list(beta_eta_fixed = as.array(emulator$beta_eta), lambda_eta_fixed = emulator$lambda_eta,
-         b_fixed = as.array(emulator$b), E_f = E - grid_mean(xf, grid$design, coef),
+  c(stage2_stan_data(data, priors, emulator),
+    list(E_f = E - grid_mean(xf, grid$design, coef),
          Kx_ff = jittered_cor(pair_geometry(xf, xf), beta_x, priors$nugget),
          Lt = t(chol(kt))))
 }

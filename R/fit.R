@@ -66,6 +66,24 @@
 #'   joint fit: 6 of 10 at 12 months x 10 runs, not at 120 days), covered
 #'   the truth about as often (76 of 90 intervals at the monthly sizes
 #'   against 78), and took a tenth of the time at 36 months.
+#' @param emulator The emulator stage 2 of a modular fit calibrates with:
+#'   `"separable"`, the Gaussian process of the paper, whose correlation is
+#'   a product of one over the observable inputs and one over the
+#'   parameters; or `"basis"`, a principal-component emulator (Higdon et al.
+#'   2008): the runs' outputs at the field rows are decomposed into the
+#'   fewest components that hold 99.9 % of their variance around the runs'
+#'   mean, the rest taken as white error, and each component's weight is a
+#'   Gaussian process over the parameters with its own length scales,
+#'   variance and nugget (maximum marginal likelihood; `fit$emulator$basis`).
+#'   Both give the emulator's uncertainty at the calibration parameters to
+#'   stage 2; the separable one gives it the outputs' shape across the
+#'   periods, which at a year of daily data understates the error that
+#'   moves the calibration (`bench/RESULTS.md`). Predictions,
+#'   leave-one-out and the discrepancy tools use the separable emulator
+#'   fitted at stage 1 in either case; [validate_emulator()] and
+#'   [identifiability()] read the one stage 2 used. Needs a modular fit.
+#'   `"auto"` (the default) chooses `"basis"` for a modular fit of more
+#'   than 36 field rows, `"separable"` otherwise.
 #' @param minor_modes What to do with chains stuck in a minor mode of the
 #'   posterior: `"drop"` (the default) deals with them as below, with a
 #'   message; `"keep"` keeps every chain as it ran. Each chain's mode gets a
@@ -128,7 +146,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       cores = getOption("mc.cores", 1L),
                       control = NULL, predict_at = NULL,
                       structure = c("auto", "grid", "dense"), covariates = NULL,
-                      modular = "auto", minor_modes = c("drop", "keep"),
+                      modular = "auto", emulator = c("auto", "separable", "basis"),
+                      minor_modes = c("drop", "keep"),
                       progress = getOption("bayesbem.progress", TRUE), ...) {
   data <- as_koh_data(field, sim)
   data <- add_discrepancy_terms(data, covariates)
@@ -141,6 +160,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   check_priors(priors)
   structure <- choose_structure(data, match_choice(structure), predict_at)
   modular <- choose_modular(modular, data, structure)
+  emulator_type <- choose_emulator(match_choice(emulator), modular, data)
   defaults <- default_sampling(modular, data$n)
   iter <- iter %||% defaults$iter
   control <- control %||% defaults$control
@@ -169,10 +189,13 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                     abort_sampling_failure(data, priors$nugget, structure, messages, call = fit_env)
                   })
   emulator <- if (modular) fit_emulator(data, priors, seed, sampler$on_failure)
-  stan_data <- if (modular) modular_stan_data(data, priors, emulator) else
+  if (emulator_type == "basis") emulator$basis <- basis_emulator(data)
+  stan_data <- if (emulator_type == "basis") basis_stan_data(data, priors, emulator, emulator$basis) else
+    if (modular) modular_stan_data(data, priors, emulator) else
     koh_stan_data(data, priors, if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at"),
                   structure)
-  model <- if (modular) stanmodels$koh_modular else
+  model <- if (emulator_type == "basis") stanmodels$koh_basis else
+    if (modular) stanmodels$koh_modular else
     if (structure == "grid") stanmodels$koh_grid else stanmodels$koh
   label <- sprintf("%s %d chain%s", if (modular) "Stage 2: sampling" else "Sampling", chains,
                    if (chains > 1L) "s" else "")
@@ -181,6 +204,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   fit <- new_koh_fit(stanfit, data = data, priors = priors,
                      settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                                      control = control, structure = structure, modular = modular,
+                                     emulator = emulator_type,
                                      minor_modes = minor_modes, lapack = lapack,
                                      dropped = attr(stanfit, "dropped"),
                                      restarted = restarted_chains(stanfit),
@@ -306,6 +330,24 @@ choose_modular <- function(modular, data, structure, call = rlang::caller_env())
                    "argument", call = call)
   }
   modular
+}
+
+# emulator = "auto": the basis emulator for a modular fit of more than 36
+# field rows (see the @param); "basis" needs a modular fit. Returns
+# "separable", "basis", or "none" for a joint fit.
+choose_emulator <- function(emulator, modular, data, call = rlang::caller_env()) {
+  if (!modular) {
+    if (emulator == "basis") {
+      abort_bayesbem(c("The basis emulator needs a modular fit.",
+                       i = "Use {.code modular = TRUE} (or {.val auto}) on a grid design: every simulation run at every field input."),
+                     "argument", call = call)
+    }
+    return("none")
+  }
+  if (emulator == "auto") {
+    return(if (data$n > 36L) "basis" else "separable")
+  }
+  emulator
 }
 
 # The rstan::sampling() arguments calibrate() passes on through `...` (it sets
@@ -436,8 +478,10 @@ as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.ko
 #'   with data frames `parameters` and `hyperparameters` (row names: the
 #'   variables), for a modular fit `emulator` (the emulator's
 #'   hyperparameters, fixed at their stage-1 mode: column `value`) and
-#'   `searches` (the log density each stage-1 search reached), and the
-#'   sizes and sampler settings; `print()` shows each row to two
+#'   `searches` (the log density each stage-1 search reached), for a fit
+#'   calibrated with the basis emulator `components` (their number, else 0)
+#'   and `basis` (`variance` held, white variance `s2r` of the rest), and
+#'   the sizes and sampler settings; `print()` shows each row to two
 #'   significant digits of its sd and returns its argument invisibly.
 #' @family calibration
 #' @export
@@ -462,6 +506,8 @@ summary.koh_fit <- function(object, ...) {
          hyperparameters = s[!is_tf & !fixed, , drop = FALSE],
          emulator = if (any(fixed)) data.frame(value = s$mean[fixed], row.names = s$variable[fixed]),
          searches = object$emulator$searches,
+         basis = object$emulator$basis[c("variance", "s2r")],
+         components = length(object$emulator$basis$components),
          data = object$data[c("n", "m", "p", "q")],
          settings = object$settings,
          sampler = fit_sampler_diagnostics(object)),
@@ -499,7 +545,8 @@ print.summary.koh_fit <- function(x, ...) {
   st <- x$settings
   cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters (%s likelihood%s)\n",
               x$data$n, x$data$m, x$data$p, x$data$q, st$structure %||% "dense",
-              if (isTRUE(st$modular)) ", modular" else ""))
+              if (identical(st$emulator, "basis")) ", modular, basis emulator" else
+                if (isTRUE(st$modular)) ", modular" else ""))
   cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions%s\n\n",
               st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent,
               minor_modes_label(st$dropped, st$restarted, st$kept_moved)))
@@ -511,6 +558,11 @@ print.summary.koh_fit <- function(x, ...) {
     cat(sprintf("\nEmulator (standardised scale), fixed at its posterior mode given the runs (stage 1, %s):\n",
                 emulator_searches_label(x$searches)))
     print(data.frame(value = signif(x$emulator$value, 3), row.names = rownames(x$emulator)))
+  }
+  if (x$components > 0L) {
+    cat(sprintf("\nStage 2 calibrated with a basis emulator: %d component%s holding %s%% of the runs' variance about their mean, the rest white (sd %s, standardised scale).\n",
+                x$components, if (x$components > 1L) "s" else "", format(100 * x$basis$variance),
+                format(signif(sqrt(x$basis$s2r), 3))))
   }
   invisible(x)
 }

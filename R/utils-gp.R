@@ -30,11 +30,12 @@ pair_geometry <- function(a, b) {
 # and "ss" (new rows), and, for the dense structure, "fc", "sc", "cc" (x of
 # simulation rows) and "tt" (t of simulation rows); for the grid structure,
 # "xx" and "sx" (grid inputs, field inputs first), "tt" over the runs and the
-# output matrix `E` (grid input by run).
-gp_geometry <- function(data, x_new = NULL, structure = "dense") {
+# output matrix `E` (grid input by run). `basis`: a fit's basis emulator
+# (basis_emulator()), which runs_field() then reads.
+gp_geometry <- function(data, x_new = NULL, structure = "dense", basis = NULL) {
   g <- list(structure = structure, n = data$n, m = data$m, p = data$p, y = data$y,
             h = discrepancy_design(data), ff = pair_geometry(data$xf, data$xf),
-            xf = data$xf, x_new = x_new)
+            xf = data$xf, x_new = x_new, basis = basis)
   if (structure == "grid") {
     grid <- data$grid
     g$tc <- grid$design
@@ -231,8 +232,12 @@ field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
 
 # The field outputs given the simulation runs alone, at the draw's tf:
 # field_given_runs() with the emulator mean h(x, tf)' b added back, so that
-# `mean` is the emulator's mean at the field rows.
+# `mean` is the emulator's mean at the field rows; under the emulator stage
+# 2 calibrated with (basis_field() for a basis fit).
 runs_field <- function(g, par) {
+  if (!is.null(g$basis)) {
+    return(basis_field(g, par))
+  }
   fm <- field_given_runs(residual_geometry(g, par), par)
   fm$mean <- fm$mean + emulator_mean(g$xf, par$tf, par$coef)
   fm

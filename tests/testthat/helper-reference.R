@@ -36,27 +36,7 @@ reference_log_density <- function(sd, pars) {
   z <- c(sd$y, sd$eta) - shift
   r <- chol(sigma)
   ll <- -0.5 * N * log(2 * pi) - sum(log(diag(r))) - 0.5 * sum(backsolve(r, z, transpose = TRUE)^2)
-  # the prior is stated on w, the physical value mapped to [0, 1]; tf is w
-  # on the parameter's scale (identity, log, reciprocal), so its density
-  # carries |dw / dtf|, here by central differences
-  to_physical <- function(k, u) {
-    s <- sd$tf_lo[k] + sd$tf_span[k] * u
-    v <- switch(sd$tf_scale[k] + 1, s, exp(s), -1 / s)
-    (v - sd$tf_v_lo[k]) / sd$tf_v_span[k]
-  }
-  lp_tf <- 0
-  for (k in seq_len(sd$q)) {
-    w <- to_physical(k, pars$tf[k])
-    if (sd$tf_scale[k] > 0) {
-      h <- 1e-5
-      lp_tf <- lp_tf + log((to_physical(k, pars$tf[k] + h) - to_physical(k, pars$tf[k] - h)) / (2 * h))
-    }
-    if (sd$tf_is_normal[k] == 1) {
-      lp_tf <- lp_tf + stats::dnorm(w, sd$tf_mu[k], sd$tf_sd[k], log = TRUE) -
-        log(stats::pnorm(1, sd$tf_mu[k], sd$tf_sd[k]) - stats::pnorm(0, sd$tf_mu[k], sd$tf_sd[k]))
-    }
-  }
-  ll + lp_tf +
+  ll + reference_tf_prior(sd, pars$tf) +
     sum(stats::dbeta(pars$rho_eta, sd$rho_eta_a, sd$rho_eta_b, log = TRUE)) +
     sum(stats::dbeta(pars$rho_delta, sd$rho_delta_a, sd$rho_delta_b, log = TRUE)) +
     stats::dgamma(pars$lambda_eta, sd$lambda_eta_shape, sd$lambda_eta_rate, log = TRUE) +
@@ -64,6 +44,31 @@ reference_log_density <- function(sd, pars) {
     stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE) +
     sum(stats::dnorm(pars$gamma, 0, sd$gamma_sd, log = TRUE)) +
     sum(stats::dnorm(pars$b, 0, sd$b_sd, log = TRUE))
+}
+
+# Log prior density of tf. The prior is stated on w, the physical value
+# mapped to [0, 1]; tf is w on the parameter's scale (identity, log,
+# reciprocal), so its density carries |dw / dtf|, here by central
+# differences.
+reference_tf_prior <- function(sd, tf) {
+  to_physical <- function(k, u) {
+    s <- sd$tf_lo[k] + sd$tf_span[k] * u
+    v <- switch(sd$tf_scale[k] + 1, s, exp(s), -1 / s)
+    (v - sd$tf_v_lo[k]) / sd$tf_v_span[k]
+  }
+  lp_tf <- 0
+  for (k in seq_len(sd$q)) {
+    w <- to_physical(k, tf[k])
+    if (sd$tf_scale[k] > 0) {
+      h <- 1e-5
+      lp_tf <- lp_tf + log((to_physical(k, tf[k] + h) - to_physical(k, tf[k] - h)) / (2 * h))
+    }
+    if (sd$tf_is_normal[k] == 1) {
+      lp_tf <- lp_tf + stats::dnorm(w, sd$tf_mu[k], sd$tf_sd[k], log = TRUE) -
+        log(stats::pnorm(1, sd$tf_mu[k], sd$tf_sd[k]) - stats::pnorm(0, sd$tf_mu[k], sd$tf_sd[k]))
+    }
+  }
+  lp_tf
 }
 
 # Emulator covariance of rows u and v = (x, t): the product kernel with the

@@ -95,6 +95,43 @@
   real normal_two_kernels_lpdf(vector r, matrix K, real a, matrix x, vector beta, real lambda,
                                real d, int lapack);
 
+  /* Log density of r ~ N(0, B diag(v) B' + S + d I), B the basis of a
+   * principal-component emulator (data), v its components' variances at tf
+   * and S the squared-exponential kernel of the rows of x, sq_exp_cov()
+   * (the discrepancy): the field outputs given the runs under the basis
+   * emulator (basis_components()). Defined in C++ with its analytic gradient
+   * (inst/include/normal_basis.hpp), one Cholesky factor and one inverse of
+   * the n x n covariance per gradient, as normal_two_kernels_lpdf(). */
+  real normal_basis_lpdf(vector r, matrix B, vector v, matrix x, vector beta, real lambda,
+                         real d, int lapack);
+
+  /* The components of a principal-component emulator at tf (Higdon,
+   * Gattiker, Williams & Rightley 2008, JASA 103; inst/notes/design.md,
+   * "Basis emulator"): component j is a Gaussian process over the
+   * parameters fitted to the runs' weights, so given them its mean is
+   * h(tf)' b_j + k_j' alpha_j and its variance s2_j (1 + nug_j) -
+   * k_j' Kj^-1 k_j, with h(tf) = (1, tf), k_j[a] = s2_j exp(-sum_k
+   * beta[k, j] (tf[k] - tc[a, k])^2) and Kj^-1 rows (j - 1) mt + 1 to j mt
+   * of Ki. Returns append_row(means, variances); a variance below zero by
+   * rounding is taken as zero. */
+  vector basis_components(vector tf, matrix tc, matrix coef, matrix beta, vector s2,
+                          vector nug, matrix alpha, matrix Ki) {
+    int mt = rows(tc);
+    int pc = cols(coef);
+    vector[2 * pc] out;
+    for (j in 1:pc) {
+      vector[mt] k;
+      for (a in 1:mt) {
+        k[a] = s2[j] * exp(-dot_product(col(beta, j), square(tf - tc[a]')));
+      }
+      out[j] = coef[1, j] + dot_product(tf, tail(col(coef, j), rows(tf)))
+               + dot_product(k, col(alpha, j));
+      out[pc + j] = fmax(s2[j] * (1 + nug[j])
+                         - quad_form(block(Ki, (j - 1) * mt + 1, 1, mt, mt), k), 0);
+    }
+    return out;
+  }
+
   /* The field outputs given the runs on a grid (inst/notes/design.md, "Grid
    * designs"):
    *   y | E ~ N((E w)[1:n], c Kx_ff / lambda_eta + Sigma_delta + I / lambda_e),

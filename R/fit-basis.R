@@ -1,0 +1,114 @@
+# The basis emulator of a modular fit (Higdon, Gattiker, Williams &
+# Rightley 2008, "Computer model calibration using high-dimensional
+# output", JASA 103): the runs' outputs at the n field rows, centred by their
+# mean over the runs, are decomposed E - mu = B W' + R (singular value
+# decomposition), B the first components (n x pc), W their weights (runs x
+# pc, unit variance over the runs) and R the truncated components, taken as
+# white error of variance s2r per row. Each column of W is emulated over
+# the calibration parameters by its own Gaussian process, fitted here by
+# maximum marginal likelihood; stage 2 (inst/stan/koh_basis.stan)
+# calibrates with them fixed. Why: the separable emulator gives its error
+# the outputs' shape across periods, one correlation in the parameters for
+# every component, and at 365 days that error moved the calibration by
+# about two of its sds while its stated uncertainty said a fifth of that;
+# components with their own length scales state an error of the right
+# size (bench/bench-basis-emulator.R, bench/RESULTS.md).
+
+# Stage 1 of the basis emulator on a grid design: `mu`, the basis `B`,
+# `s2r`, the runs `tc` (scaled), the runs' weights `w` and one
+# fit_component() per component, keeping the fewest components that hold `variance` of the centred runs'
+# variance.
+basis_emulator <- function(data, variance = 0.999) {
+  e <- grid_runs(data)[seq_len(data$n), , drop = FALSE]
+  mu <- rowMeans(e)
+  sv <- svd(e - mu)
+  share <- cumsum(sv$d^2) / sum(sv$d^2)
+  pc <- min(which(share >= variance - 1e-12), length(sv$d))
+  keep <- seq_len(pc)
+  runs <- ncol(e)
+  basis <- sv$u[, keep, drop = FALSE] %*% diag(sv$d[keep] / sqrt(runs), pc)
+  w <- sqrt(runs) * sv$v[, keep, drop = FALSE]
+  truncated <- e - mu - basis %*% t(w)
+  tc <- data$grid$design
+  list(mu = mu, B = basis, s2r = mean(truncated^2), tc = tc, w = w, variance = variance,
+       components = lapply(keep, function(j) fit_component(tc, w[, j])))
+}
+
+# One component's Gaussian process over the parameters tc (scaled to
+# [0, 1]): w ~ N(H b, s2 (C + nug I)), H = (1, t), C[a, c] = exp(-sum_k
+# beta[k] (t[a, k] - t[c, k])^2), by maximum marginal likelihood with b
+# profiled out (generalised least squares), from three starts of the
+# length scales. Returns beta, s2, nug, b, `ki` = (s2 (C + nug I))^-1 and
+# `alpha` = ki (w - H b), what the predictions need.
+fit_component <- function(tc, w) {
+  q <- ncol(tc)
+  d <- pair_geometry(tc, tc)$d
+  h <- cbind(1, tc)
+  unpack <- function(theta) {
+    list(beta = exp(theta[seq_len(q)]), s2 = exp(theta[q + 1]), nug = exp(theta[q + 2]))
+  }
+  cov_of <- function(th) th$s2 * (exp(-weighted_sum(d, th$beta)) + diag(th$nug, nrow(tc)))
+  objective <- function(theta) {
+    r <- tryCatch(chol(cov_of(unpack(theta))), error = function(e) NULL)
+    if (is.null(r)) {
+      return(1e10)
+    }
+    component_deviance(r, h, w)
+  }
+  searches <- lapply(c(-1, 1, 3), function(start) {
+    stats::optim(c(rep(start, q), 0, -6), objective, method = "L-BFGS-B",
+                 lower = c(rep(-5, q), -6, -14), upper = c(rep(8, q), 6, 0))
+  })
+  th <- unpack(searches[[which.min(vapply(searches, `[[`, numeric(1), "value"))]]$par)
+  ki <- chol2inv(chol(cov_of(th)))
+  b <- drop(solve(crossprod(h, ki %*% h), crossprod(h, ki %*% w)))
+  c(th, list(b = b, ki = ki, alpha = drop(ki %*% (w - h %*% b))))
+}
+
+# Minus the log marginal likelihood of w ~ N(H b, R'R) with b at its
+# generalised-least-squares estimate, less constants: half the squared
+# whitened residual plus log|R|.
+component_deviance <- function(r, h, w) {
+  wh <- backsolve(r, h, transpose = TRUE)
+  ww <- backsolve(r, w, transpose = TRUE)
+  res <- ww - wh %*% qr.solve(wh, ww)
+  0.5 * sum(res^2) + sum(log(diag(r)))
+}
+
+# The components' means and variances at scaled parameters tf, as
+# basis_components() in koh_functions.stan: mean h(tf)' b + k' alpha,
+# variance s2 (1 + nug) - k' ki k (at least 0).
+basis_weights <- function(basis, tf) {
+  wv <- vapply(basis$components, function(gp) {
+    k <- gp$s2 * exp(-tf_distance(basis$tc, tf, gp$beta))
+    c(sum(c(1, tf) * gp$b) + sum(k * gp$alpha),
+      max(gp$s2 * (1 + gp$nug) - drop(crossprod(k, gp$ki %*% k)), 0))
+  }, numeric(2))
+  list(mean = wv[1, ], var = wv[2, ])
+}
+
+# The field outputs given the runs under the basis emulator, for one draw
+# (runs_field() of a basis fit): mean mu + B w(tf) (the emulator's; the
+# discrepancy terms h' gamma are the caller's, as for field_given_runs()),
+# covariance B diag(v(tf)) B' + Sigma_delta + (s2r + 1 / lambda_e) I.
+basis_field <- function(g, par) {
+  basis <- g$basis
+  wv <- basis_weights(basis, par$tf)
+  cov <- basis$B %*% (wv$var * t(basis$B)) + delta_cov(g$ff, par)
+  diag(cov) <- diag(cov) + basis$s2r + 1 / par$lambda_e
+  list(mean = basis$mu + drop(basis$B %*% wv$mean), cov = cov)
+}
+
+# The data of koh_basis.stan: stage 2's common data (stage2_stan_data())
+# and the basis emulator's pieces.
+basis_stan_data <- function(data, priors, emulator, basis) {
+  gps <- basis$components
+  mt <- nrow(basis$tc)
+  field <- function(name, size) matrix(vapply(gps, `[[`, numeric(size), name), ncol = length(gps))
+  c(stage2_stan_data(data, priors, emulator),
+    list(pc = length(gps), mu_f = basis$mu, B = basis$B, s2r = basis$s2r,
+         w_coef = field("b", data$q + 1), w_beta = field("beta", data$q),
+         w_s2 = as.array(vapply(gps, `[[`, numeric(1), "s2")),
+         w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
+         w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
+}

@@ -1,0 +1,68 @@
+// Stage 2 of the modular KOH fit with a principal-component (basis)
+// emulator (Higdon, Gattiker, Williams & Rightley 2008, JASA 103;
+// inst/notes/design.md, "Basis emulator"): the calibration parameters, the
+// discrepancy and the noise, given the runs at the field rows, whose
+// centred outputs are B W' plus the truncated components (variance s2r per
+// row), each column of W emulated over the parameters by its own Gaussian
+// process fixed at stage 1 (R/fit-basis.R). Given the runs,
+//   y - h' gamma ~ N(mu + B w(tf), B diag(v(tf)) B' + Sigma_delta + (s2r + 1 / lambda_e) I),
+// each gradient one Cholesky factor and one inverse of an n x n matrix (C++,
+// normal_basis_lpdf()). The separable emulator of stage 1 is passed through
+// to the generated quantities: the package predicts with it.
+functions {
+#include /include/koh_functions.stan
+}
+data {
+  int<lower=1> n;                        // field observations
+  int<lower=1> mt;                       // simulation runs
+  int<lower=1> p;                        // observable inputs x
+  int<lower=1> q;                        // calibration parameters t
+  vector[n] y;                           // field output
+  matrix[n, p] xf;                       // field inputs
+  matrix[mt, q] tc;                      // simulation design, one row per run
+#include /include/koh_prior_data.stan
+  int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
+  // the separable stage-1 emulator, for predictions
+  vector[p + q] beta_eta_fixed;
+  real<lower=0> lambda_eta_fixed;
+  vector[n_b] b_fixed;
+  // the basis emulator
+  int<lower=1> pc;                       // components
+  vector[n] mu_f;                        // the runs' mean at the field rows
+  matrix[n, pc] B;                       // basis
+  real<lower=0> s2r;                     // variance of the truncated components
+  matrix[q + 1, pc] w_coef;              // components' linear means
+  matrix[q, pc] w_beta;                  // components' kernel weights
+  vector<lower=0>[pc] w_s2;              // components' variances
+  vector<lower=0>[pc] w_nug;             // components' nuggets
+  matrix[mt, pc] w_alpha;                // Kj^-1 (w_j - H b_j)
+  matrix[mt * pc, mt] w_Ki;              // Kj^-1, stacked
+}
+parameters {
+  vector<lower=0, upper=1>[q] tf;        // calibration parameters
+  vector<lower=0, upper=1>[p] rho_delta;
+  real<lower=0> lambda_delta;            // precision of the discrepancy
+  real<lower=0> lambda_e;                // precision of the observation error
+  vector[n_h] gamma;                     // coefficients of the discrepancy terms
+}
+transformed parameters {
+  vector[p] beta_delta = -4 * log(rho_delta);
+}
+model {
+  vector[2 * pc] wv = basis_components(tf, tc, w_coef, w_beta, w_s2, w_nug, w_alpha, w_Ki);
+  target += beta_lpdf(rho_delta | rho_delta_a, rho_delta_b);
+  target += gamma_lpdf(lambda_delta | lambda_delta_shape, lambda_delta_rate);
+  target += gamma_lpdf(lambda_e | lambda_e_shape, lambda_e_rate);
+  target += tf_prior_lpdf(tf | tf_is_normal, tf_mu, tf_sd, tf_scale, tf_lo, tf_span, tf_v_lo,
+                            tf_v_span);
+  target += normal_lpdf(gamma | 0, gamma_sd);
+  target += normal_basis_lpdf(y - mu_f - B * head(wv, pc) - discrepancy_terms(h, gamma)
+                              | B, tail(wv, pc), xf, beta_delta, lambda_delta,
+                              s2r + 1 / lambda_e, lapack);
+}
+generated quantities {
+  // the separable emulator, under the names of the joint programs
+  vector[p + q] beta_eta = beta_eta_fixed;
+  real lambda_eta = lambda_eta_fixed;
+  vector[n_b] b = b_fixed;
+}

@@ -1,0 +1,167 @@
+# An independent transcription of the basis emulator given the runs at tf
+# (Higdon et al. 2008): each component's Gaussian process built element by
+# element from its hyperparameters and the runs' weights, its mean
+# coefficients by generalised least squares, solved with solve(); then the
+# field outputs' mean and covariance, and stage 2's log density with R's own
+# density functions.
+reference_basis <- function(sd, basis, pars) {
+  tc <- basis$tc
+  mt <- nrow(tc)
+  h <- cbind(1, tc)
+  comp <- vapply(seq_along(basis$components), function(j) {
+    gp <- basis$components[[j]]
+    kern <- function(a, b) gp$s2 * exp(-sum(gp$beta * (a - b)^2))
+    k_runs <- matrix(0, mt, mt)
+    for (a in seq_len(mt)) for (c in seq_len(mt)) k_runs[a, c] <- kern(tc[a, ], tc[c, ])
+    k_runs <- k_runs + diag(gp$s2 * gp$nug, mt)
+    w <- basis$w[, j]
+    b <- solve(t(h) %*% solve(k_runs, h), t(h) %*% solve(k_runs, w))
+    k <- vapply(seq_len(mt), function(a) kern(pars$tf, tc[a, ]), numeric(1))
+    c(sum(c(1, pars$tf) * b) + sum(k * solve(k_runs, w - h %*% b)),
+      max(gp$s2 * (1 + gp$nug) - sum(k * solve(k_runs, k)), 0))
+  }, numeric(2))
+  n <- sd$n
+  beta_delta <- -4 * log(pars$rho_delta)
+  cov <- matrix(0, n, n)
+  for (i in seq_len(n)) {
+    for (j in seq_len(n)) {
+      cov[i, j] <- sum(basis$B[i, ] * comp[2, ] * basis$B[j, ]) +
+        exp(-sum(beta_delta * (sd$xf[i, ] - sd$xf[j, ])^2)) / pars$lambda_delta +
+        (i == j) * (basis$s2r + 1 / pars$lambda_e)
+    }
+  }
+  mean <- basis$mu + drop(basis$B %*% comp[1, ])
+  r <- chol(cov)
+  z <- sd$y - mean
+  ll <- -0.5 * n * log(2 * pi) - sum(log(diag(r))) - 0.5 * sum(backsolve(r, z, transpose = TRUE)^2)
+  lp <- ll + reference_tf_prior(sd, pars$tf) +
+    sum(stats::dbeta(pars$rho_delta, sd$rho_delta_a, sd$rho_delta_b, log = TRUE)) +
+    stats::dgamma(pars$lambda_delta, sd$lambda_delta_shape, sd$lambda_delta_rate, log = TRUE) +
+    stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE)
+  list(mean = mean, cov = cov, lp = lp)
+}
+
+test_that("the basis holds the runs: mean, components and truncated rest", {
+  withr::local_seed(4)
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  basis <- bayesbem:::basis_emulator(d, variance = 0.9)
+  e <- bayesbem:::grid_runs(d)[1:9, ]
+  expect_equal(basis$mu, rowMeans(e))
+  truncated <- e - basis$mu - basis$B %*% t(basis$w)
+  expect_equal(basis$s2r, mean(truncated^2))
+  # the fewest components that hold 90 % of the centred runs' variance
+  d2 <- svd(e - rowMeans(e))$d^2
+  pc <- ncol(basis$B)
+  expect_gte(sum(d2[seq_len(pc)]) / sum(d2), 0.9)
+  expect_lt(sum(d2[seq_len(pc - 1)]) / sum(d2), 0.9)
+  # weights of unit variance over the runs, uncorrelated
+  expect_equal(crossprod(basis$w) / nrow(basis$w), diag(pc))
+  expect_length(basis$components, pc)
+  # every component kept: nothing truncated
+  full <- bayesbem:::basis_emulator(d, variance = 1)
+  expect_equal(unname(full$mu + full$B %*% t(full$w)), unname(e))
+  expect_lt(full$s2r, 1e-20)
+})
+
+test_that("a component's Gaussian process is at its marginal likelihood's maximum", {
+  withr::local_seed(5)
+  tc <- matrix(runif(24), 12, 2)
+  w <- sin(3 * tc[, 1]) + tc[, 2]^2 + rnorm(12, sd = 0.01)
+  gp <- bayesbem:::fit_component(tc, w)
+  h <- cbind(1, tc)
+  theta <- c(log(gp$beta), log(gp$s2), log(gp$nug))
+  cov_at <- function(th) {
+    exp(th[3]) * (exp(-exp(th[1]) * outer(tc[, 1], tc[, 1], "-")^2 -
+                        exp(th[2]) * outer(tc[, 2], tc[, 2], "-")^2) + diag(exp(th[4]), 12))
+  }
+  # minus the profile log likelihood less n log(2 pi) / 2, by solve() and determinant()
+  deviance <- function(th) {
+    cov <- cov_at(th)
+    b <- solve(t(h) %*% solve(cov, h), t(h) %*% solve(cov, w))
+    r <- w - h %*% b
+    0.5 * sum(r * solve(cov, r)) + 0.5 * determinant(cov)$modulus[[1]]
+  }
+  expect_equal(bayesbem:::component_deviance(chol(cov_at(theta)), h, w), deviance(theta),
+               tolerance = 1e-8)
+  # no step of 0.05 in any log hyperparameter does better (bounds aside)
+  inside <- theta > c(-5, -5, -6, -14) + 0.05 & theta < c(8, 8, 6, 0) - 0.05
+  for (k in which(inside)) {
+    step <- replace(numeric(4), k, 0.05)
+    expect_gte(deviance(theta + step), deviance(theta) - 1e-6)
+    expect_gte(deviance(theta - step), deviance(theta) - 1e-6)
+  }
+  # the predictions' pieces
+  k_runs <- solve(gp$ki)
+  expect_equal(gp$alpha, drop(solve(k_runs, w - h %*% gp$b)))
+})
+
+test_that("stage 2 of a basis fit has the log density of the basis emulator given the runs", {
+  skip_on_cran()
+  withr::local_seed(22)
+  problems <- list(
+    shipped = list(d = koh_data(seb_field, seb_sim), priors = koh_priors()),
+    random = list(d = random_grid_data(n = 9, runs = 8, extra = 2),
+                  priors = koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)),
+                                      rho_delta = c(1.5, 0.5)))
+  )
+  for (pr in problems) {
+    d <- pr$d
+    basis <- bayesbem:::basis_emulator(d, variance = 0.99)
+    emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                     b = numeric(sum(bayesbem:::mean_selection(pr$priors, d$p, d$q))))
+    sd <- bayesbem:::basis_stan_data(d, pr$priors, emulator, basis)
+    model <- koh_model_for(sd, "koh_basis")
+    g <- bayesbem:::gp_geometry(d, structure = "grid", basis = basis)
+    for (i in 1:3) {
+      pars <- list(tf = as.array(stats::runif(sd$q)),
+                   rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
+                   lambda_delta = stats::rgamma(1, 10, 0.3), lambda_e = stats::rgamma(1, 10, 0.03),
+                   gamma = as.array(stats::rnorm(sd$n_h)))
+      ref <- reference_basis(sd, basis, pars)
+      expect_equal(stan_log_density(model, pars), ref$lp, tolerance = 1e-8)
+      # what validate_emulator() and identifiability() read for a basis fit
+      draw <- as_draw_pars(c(pars, list(rho_eta = rep(0.5, d$p + d$q), lambda_eta = 1,
+                                                   b = emulator$b)),
+                                      pr$priors$nugget, sd)
+      fm <- bayesbem:::runs_field(g, draw)
+      expect_equal(fm$mean, ref$mean, tolerance = 1e-8)
+      expect_equal(fm$cov, ref$cov, tolerance = 1e-8)
+      # the analytic gradient (normal_basis.hpp) against central differences
+      u <- rstan::unconstrain_pars(model, pars)
+      grad <- rstan::grad_log_prob(model, u)
+      numeric_grad <- vapply(seq_along(u), function(k) {
+        e <- replace(numeric(length(u)), k, 1e-5)
+        (rstan::log_prob(model, u + e) - rstan::log_prob(model, u - e)) / 2e-5
+      }, numeric(1))
+      expect_equal(as.numeric(grad), numeric_grad, tolerance = 1e-5)
+    }
+  }
+})
+
+test_that("the basis emulator needs a modular fit, and \"auto\" picks it above 36 rows", {
+  withr::local_options(cli.num_colors = 1)
+  d12 <- koh_data(seb_field, seb_sim)
+  choose <- bayesbem:::choose_emulator
+  expect_equal(choose("auto", TRUE, d12), "separable")
+  expect_equal(choose("auto", TRUE, list(n = 37L)), "basis")
+  expect_equal(choose("basis", TRUE, d12), "basis")
+  expect_equal(choose("auto", FALSE, d12), "none")
+  expect_snapshot(calibrate(seb_field, seb_sim, modular = FALSE, emulator = "basis"), error = TRUE)
+  expect_snapshot(calibrate(seb_field, seb_sim, emulator = "pca"), error = TRUE)
+})
+
+test_that("a basis fit of daily data converges and covers the truth", {
+  skip_on_cran()
+  problem <- bayesbem:::synthetic_problem(60, 15, 2)
+  fit <- suppressMessages(calibrate(problem$field, problem$runs, chains = 2, iter = 1000,
+                                    seed = 11, cores = 2, progress = FALSE))
+  expect_equal(fit$settings$emulator, "basis")
+  expect_gte(length(fit$emulator$basis$components), 1)
+  conv <- check_convergence(fit, warn = FALSE)
+  expect_lt(max(conv$rhat), 1.05)
+  draws <- bayesbem:::parameter_draws(fit)
+  for (v in names(problem$truth)) {
+    expect_gte(problem$truth[[v]], stats::quantile(draws[, v], 0.05))
+    expect_lte(problem$truth[[v]], stats::quantile(draws[, v], 0.95))
+  }
+})
