@@ -26,7 +26,11 @@
 #' four problems at 365 days x 30 runs, its intervals three sds along the
 #' fan / equipment ridge, and after ten more runs in another). At that size
 #' the one-step shift is a warning rather than a measure of the bias: it
-#' also flagged a fit that covered the truth.
+#' also flagged a fit that covered the truth. For a fit calibrated with the
+#' basis emulator (`calibrate(emulator = "basis")`, the default above 36
+#' field rows) `m(t)` and `S` are that emulator's, the likelihood stage 2
+#' used; the intervals of the per-period check are the separable
+#' emulator's, which [predict.koh_fit()] uses.
 #'
 #' The verdict: the emulator can be trusted for this posterior when at least
 #' `level - 0.1` of the simulator's outputs lie in the emulator's intervals,
