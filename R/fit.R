@@ -188,10 +188,11 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                   progress = progress, minor_modes = minor_modes, on_failure = function(messages) {
                     abort_sampling_failure(data, priors$nugget, structure, messages, call = fit_env)
                   })
-  emulator <- if (modular) fit_emulator(data, priors, seed, sampler$on_failure)
-  if (emulator_type == "basis") emulator$basis <- basis_emulator(data)
-  stan_data <- if (emulator_type == "basis") basis_stan_data(data, priors, emulator, emulator$basis) else
-    if (modular) modular_stan_data(data, priors, emulator) else
+  # `emulator` names the choice; stage 1 is the fitted emulator
+  stage1 <- if (modular) fit_emulator(data, priors, seed, sampler$on_failure)
+  if (emulator_type == "basis") stage1$basis <- basis_emulator(data)
+  stan_data <- if (emulator_type == "basis") basis_stan_data(data, priors, stage1, stage1$basis) else
+    if (modular) modular_stan_data(data, priors, stage1) else
     koh_stan_data(data, priors, if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at"),
                   structure)
   model <- if (emulator_type == "basis") stanmodels$koh_basis else
@@ -210,7 +211,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                                      restarted = restarted_chains(stanfit),
                                      kept_moved = attr(stanfit, "kept_moved")),
                      predict_at = if (!is.null(predict_at)) predict_at[data$names$x],
-                     emulator = emulator)
+                     emulator = stage1)
   inform_minor_modes(fit$settings$dropped, fit$settings$restarted,
                      moved_parameters(fit, attr(stanfit, "minor_tf")), fit$settings$kept_moved)
   check_convergence(fit)
