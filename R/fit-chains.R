@@ -186,9 +186,8 @@ restart_inits <- function(fit, n) {
 
 # The names in the parameters blocks of the package's Stan programs
 # (koh_parameters.stan, koh_emulator.stan, koh_modular.stan, koh_basis.stan,
-# koh.stan), by
-# Stan's transform to the unconstrained scale: logit for the (0, 1)
-# parameters, log for the precisions, none for the rest.
+# koh.stan), by Stan's transform to the unconstrained scale: logit for the
+# (0, 1) parameters, log for the precisions, none for the rest.
 parameter_block <- function() {
   list(logit = c("tf", "rho_eta", "rho_delta"),
        log = c("lambda_eta", "lambda_delta", "lambda_e"),

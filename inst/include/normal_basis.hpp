@@ -49,8 +49,9 @@ typename stan::return_type<TR, TV, TB, TL, TJ>::type normal_basis(
   // sigma now holds Sigma^-1
   const Traces t = lower_traces(alpha, sigma, K, S, x);
   const Eigen::VectorXd ba = B.transpose() * alpha;
-  const Eigen::VectorXd d_v =
-      0.5 * (ba.array().square() - (B.transpose() * sigma).cwiseProduct(B.transpose()).rowwise().sum().array()).matrix();
+  // diag(B' Sigma^-1 B), n^2 pc flops
+  const Eigen::VectorXd quad = (B.transpose() * sigma).cwiseProduct(B.transpose()).rowwise().sum();
+  const Eigen::VectorXd d_v = 0.5 * (ba.array().square() - quad.array()).matrix();
   std::vector<stan::math::var> ops;
   std::vector<double> grads;
   add_operands(ops, grads, r, -alpha);
