@@ -16,8 +16,8 @@
 
 # Stage 1 of the basis emulator on a grid design: `mu`, the basis `B`,
 # `s2r`, the runs `tc` (scaled), the runs' weights `w` and one
-# fit_component() per component, keeping the fewest components that hold `variance` of the centred runs'
-# variance.
+# fit_component() per component, keeping the fewest components that hold
+# `variance` of the centred runs' variance.
 basis_emulator <- function(data, variance = 0.999) {
   e <- grid_runs(data)[seq_len(data$n), , drop = FALSE]
   mu <- rowMeans(e)
@@ -100,8 +100,9 @@ basis_field <- function(g, par) {
 }
 
 # The data of koh_basis.stan: stage 2's common data (stage2_stan_data())
-# and the basis emulator's pieces.
-basis_stan_data <- function(data, priors, emulator, basis) {
+# and the pieces of the basis emulator, `emulator$basis`.
+basis_stan_data <- function(data, priors, emulator) {
+  basis <- emulator$basis
   gps <- basis$components
   mt <- nrow(basis$tc)
   field <- function(name, size) matrix(vapply(gps, `[[`, numeric(size), name), ncol = length(gps))

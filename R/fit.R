@@ -191,7 +191,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   # `emulator` names the choice; stage 1 is the fitted emulator
   stage1 <- if (modular) fit_emulator(data, priors, seed, sampler$on_failure)
   if (emulator_type == "basis") stage1$basis <- basis_emulator(data)
-  stan_data <- if (emulator_type == "basis") basis_stan_data(data, priors, stage1, stage1$basis) else
+  stan_data <- if (emulator_type == "basis") basis_stan_data(data, priors, stage1) else
     if (modular) modular_stan_data(data, priors, stage1) else
     koh_stan_data(data, priors, if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at"),
                   structure)

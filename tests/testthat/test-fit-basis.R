@@ -108,8 +108,9 @@ test_that("stage 2 of a basis fit has the log density of the basis emulator give
     d <- pr$d
     basis <- bayesbem:::basis_emulator(d, variance = 0.99)
     emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
-                     b = numeric(sum(bayesbem:::mean_selection(pr$priors, d$p, d$q))))
-    sd <- bayesbem:::basis_stan_data(d, pr$priors, emulator, basis)
+                     b = numeric(sum(bayesbem:::mean_selection(pr$priors, d$p, d$q))),
+                     basis = basis)
+    sd <- bayesbem:::basis_stan_data(d, pr$priors, emulator)
     model <- koh_model_for(sd, "koh_basis")
     g <- bayesbem:::gp_geometry(d, structure = "grid", basis = basis)
     for (i in 1:3) {
