@@ -53,26 +53,28 @@ fit_component <- function(tc, w) {
     if (is.null(r)) {
       return(1e10)
     }
-    component_deviance(r, h, w)
+    component_gls(r, h, w)$deviance
   }
   searches <- lapply(c(-1, 1, 3), function(start) {
     stats::optim(c(rep(start, q), 0, -6), objective, method = "L-BFGS-B",
                  lower = c(rep(-5, q), -6, -14), upper = c(rep(8, q), 6, 0))
   })
   th <- unpack(searches[[which.min(vapply(searches, `[[`, numeric(1), "value"))]]$par)
-  ki <- chol2inv(chol(cov_of(th)))
-  b <- drop(solve(crossprod(h, ki %*% h), crossprod(h, ki %*% w)))
+  r <- chol(cov_of(th))
+  ki <- chol2inv(r)
+  b <- component_gls(r, h, w)$b
   c(th, list(b = b, ki = ki, alpha = drop(ki %*% (w - h %*% b))))
 }
 
-# Minus the log marginal likelihood of w ~ N(H b, R'R) with b at its
-# generalised-least-squares estimate, less constants: half the squared
-# whitened residual plus log|R|.
-component_deviance <- function(r, h, w) {
+# w ~ N(H b, R'R) with b at its generalised-least-squares estimate (least
+# squares on the whitened R'^-1 H, R'^-1 w): `b`, and `deviance`, minus the
+# log marginal likelihood less constants (half the squared whitened
+# residual plus log|R|).
+component_gls <- function(r, h, w) {
   wh <- backsolve(r, h, transpose = TRUE)
   ww <- backsolve(r, w, transpose = TRUE)
-  res <- ww - wh %*% qr.solve(wh, ww)
-  0.5 * sum(res^2) + sum(log(diag(r)))
+  b <- qr.solve(wh, ww)
+  list(b = drop(b), deviance = 0.5 * sum((ww - wh %*% b)^2) + sum(log(diag(r))))
 }
 
 # The components' means and variances at scaled parameters tf, as

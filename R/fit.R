@@ -480,8 +480,9 @@ as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.ko
 #'   variables), for a modular fit `emulator` (the emulator's
 #'   hyperparameters, fixed at their stage-1 mode: column `value`) and
 #'   `searches` (the log density each stage-1 search reached), for a fit
-#'   calibrated with the basis emulator `components` (their number, else 0)
-#'   and `basis` (`variance` held, white variance `s2r` of the rest), and
+#'   calibrated with the basis emulator `basis` (the number of
+#'   `components`, the `variance` they hold, the white variance `s2r` of the
+#'   rest; else `NULL`), and
 #'   the sizes and sampler settings; `print()` shows each row to two
 #'   significant digits of its sd and returns its argument invisibly.
 #' @family calibration
@@ -507,13 +508,21 @@ summary.koh_fit <- function(object, ...) {
          hyperparameters = s[!is_tf & !fixed, , drop = FALSE],
          emulator = if (any(fixed)) data.frame(value = s$mean[fixed], row.names = s$variable[fixed]),
          searches = object$emulator$searches,
-         basis = object$emulator$basis[c("variance", "s2r")],
-         components = length(object$emulator$basis$components),
+         basis = basis_summary(object$emulator$basis),
          data = object$data[c("n", "m", "p", "q")],
          settings = object$settings,
          sampler = fit_sampler_diagnostics(object)),
     class = "summary.koh_fit"
   )
+}
+
+# The basis emulator in a summary: its size, the variance its components
+# hold and the white variance of the rest; NULL without one.
+basis_summary <- function(basis) {
+  if (is.null(basis)) {
+    return(NULL)
+  }
+  list(components = length(basis$components), variance = basis$variance, s2r = basis$s2r)
 }
 
 # posterior::summarise_draws() over every variable of a fit but lp__, with
@@ -560,9 +569,9 @@ print.summary.koh_fit <- function(x, ...) {
                 emulator_searches_label(x$searches)))
     print(data.frame(value = signif(x$emulator$value, 3), row.names = rownames(x$emulator)))
   }
-  if (x$components > 0L) {
+  if (!is.null(x$basis)) {
     cat(sprintf("\nStage 2 calibrated with a basis emulator: %d component%s holding %s%% of the runs' variance about their mean, the rest white (sd %s, standardised scale).\n",
-                x$components, if (x$components > 1L) "s" else "", format(100 * x$basis$variance),
+                x$basis$components, if (x$basis$components > 1L) "s" else "", format(100 * x$basis$variance),
                 format(signif(sqrt(x$basis$s2r), 3))))
   }
   invisible(x)

@@ -1,19 +1,19 @@
 # Benchmark (issue 14, coverage at 365 days): would a principal-component
 # (basis) emulator (Higdon, Gattiker, Williams & Rightley 2008, JASA 103,
 # "Computer model calibration using high-dimensional output") make the
-# calibration honest where the package's separable emulator is not? A
-# prototype outside the package, on the problems of bench-reliability.R
-# (bayesbem:::synthetic_problem(): the embedded model, the truth within the
-# ranges, noise 2 % of the mean output, correct simulator).
+# calibration honest where the package's separable emulator is not? On the
+# problems of bench-reliability.R (bayesbem:::synthetic_problem(): the
+# embedded model, the truth within the ranges, noise 2 % of the mean output,
+# correct simulator).
 #
-# Stage 1 (R): the runs' outputs at the field rows, scaled as koh_data()
-# scales y, centred by their mean over the runs and decomposed by SVD,
-# E - mu = K W' + residual, keeping the fewest components that hold
-# `BENCH_VAR` of the variance (default 0.999); the truncated components
-# become a white variance s2r per row. Each column of W (unit variance over
-# the runs) gets its own Gaussian process over the scaled parameters
-# (linear mean, squared-exponential kernel, variance and nugget), fitted by
-# maximum marginal likelihood (ML-II, the mean profiled out).
+# Stage 1 is the package's (bayesbem:::basis_emulator(), R/fit-basis.R): the
+# runs' outputs at the field rows, scaled as koh_data() scales y, centred by
+# their mean over the runs and decomposed by SVD, E - mu = K W' + residual,
+# keeping the fewest components that hold `BENCH_VAR` of the variance
+# (default 0.999, the package's); the truncated components become a white
+# variance s2r per row. Each column of W gets its own Gaussian process over
+# the scaled parameters (linear mean, squared-exponential kernel, variance
+# and nugget), fitted by maximum marginal likelihood.
 #
 # 1. Honesty, as bench-emulator-error.R measures the separable emulator: at
 #    40 new parameter points (maximin LHS over the ranges) the emulator's
@@ -41,76 +41,20 @@ var_kept <- as.numeric(Sys.getenv("BENCH_VAR", "0.999"))
 run_fits <- Sys.getenv("BENCH_FIT") == "1"
 metric <- Sys.getenv("BENCH_METRIC", "dense_e")
 
-# Per-column squared differences between the rows of a and b, and the
-# squared-exponential correlation with weights beta.
-sq_diffs <- function(a, b) lapply(seq_len(ncol(a)), function(k) outer(a[, k], b[, k], "-")^2)
-sq_exp <- function(d, beta) exp(-Reduce(`+`, Map(`*`, d, beta)))
-
-# One component's Gaussian process by ML-II: w ~ N(H b, s2 (C + nug I)),
-# H = [1, t], b profiled out by generalised least squares; three starts.
-fit_component <- function(tc, w) {
-  d <- sq_diffs(tc, tc)
-  h <- cbind(1, tc)
-  q <- ncol(tc)
-  cov_of <- function(th) {
-    exp(th[q + 1]) * (sq_exp(d, exp(th[1:q])) + diag(exp(th[q + 2]) + 1e-8, nrow(tc)))
-  }
-  neg_log_lik <- function(th) {
-    r <- tryCatch(chol(cov_of(th)), error = function(e) NULL)
-    if (is.null(r)) return(1e10)
-    wh <- backsolve(r, h, transpose = TRUE)
-    ww <- backsolve(r, w, transpose = TRUE)
-    res <- ww - wh %*% qr.solve(wh, ww)
-    0.5 * sum(res^2) + sum(log(diag(r)))
-  }
-  fits <- lapply(c(-1, 1, 3), function(start) {
-    stats::optim(c(rep(start, q), 0, -6), neg_log_lik, method = "L-BFGS-B",
-                 lower = c(rep(-5, q), -6, -14), upper = c(rep(8, q), 6, 0))
-  })
-  th <- fits[[which.min(vapply(fits, `[[`, numeric(1), "value"))]]$par
-  ki <- solve(cov_of(th))
-  b <- solve(t(h) %*% ki %*% h, t(h) %*% ki %*% w)
-  list(beta = exp(th[1:q]), s2 = exp(th[q + 1]), nug = exp(th[q + 2]), ki = ki, b = drop(b),
-       alpha = drop(ki %*% (w - h %*% b)))
-}
-
-# The basis emulator of problem k.
-basis_emulator <- function(n, mt, k) {
+# The basis emulator of problem k: the package's stage 1
+# (bayesbem:::basis_emulator()) on the problem's data, and the noise sd on
+# the scale of koh_data()'s y.
+problem_emulator <- function(n, mt, k) {
   problem <- ns$synthetic_problem(n, mt, k)
   data <- koh_data(problem$field, problem$runs)
-  sc <- data$scaling
-  names_t <- data$names$t
-  runs <- problem$runs
-  run_key <- ns$value_keys(runs[names_t])
-  settings <- unique(runs[names_t])
-  rows <- match(ns$value_keys(problem$field[data$names$x]), ns$value_keys(runs[data$names$x]))
-  period_key <- ns$value_keys(runs[data$names$x])
-  field_key <- period_key[rows]
-  e <- vapply(ns$value_keys(settings), function(s) {
-    one <- runs[run_key == s, ]
-    (one$eta[match(field_key, ns$value_keys(one[data$names$x]))] - sc$y_center) / sc$y_scale
-  }, numeric(nrow(problem$field)))
-  tc <- ns$scale_t(as.matrix(settings), sc)
-  mu <- rowMeans(e)
-  sv <- svd(e - mu)
-  pc <- which(cumsum(sv$d^2) / sum(sv$d^2) >= var_kept)[1]
-  basis <- sv$u[, seq_len(pc), drop = FALSE] %*% diag(sv$d[seq_len(pc)] / sqrt(ncol(e)), pc)
-  w <- sqrt(ncol(e)) * sv$v[, seq_len(pc), drop = FALSE]
-  truncated <- e - mu - basis %*% t(w)
-  list(problem = problem, data = data, tc = tc, mu = mu, basis = basis, pc = pc,
-       s2r = mean(truncated^2),
-       components = lapply(seq_len(pc), function(j) fit_component(tc, w[, j])),
-       noise_sd = 0.02 * mean(attr(problem$field, "simulated")) / sc$y_scale)
+  list(problem = problem, data = data, basis = ns$basis_emulator(data, var_kept),
+       noise_sd = 0.02 * mean(attr(problem$field, "simulated")) / data$scaling$y_scale)
 }
 
 # The emulator's mean and component variances at scaled parameters t.
 emulate <- function(em, t) {
-  wv <- vapply(em$components, function(gp) {
-    k <- gp$s2 * drop(sq_exp(sq_diffs(matrix(t, 1), em$tc), gp$beta))
-    c(sum(c(1, t) * gp$b) + sum(k * gp$alpha),
-      max(gp$s2 * (1 + gp$nug) - drop(k %*% gp$ki %*% k), 0))
-  }, numeric(2))
-  list(mean = drop(em$mu + em$basis %*% wv[1, ]), var = wv[2, ])
+  wv <- ns$basis_weights(em$basis, t)
+  list(mean = drop(em$basis$mu + em$basis$B %*% wv$mean), var = wv$var)
 }
 
 honesty <- function(em, k) {
@@ -130,8 +74,8 @@ honesty <- function(em, k) {
       down[i] <- max(down[i] - 0.01, 0)
       (emulate(em, up)$mean - emulate(em, down)$mean) / (up[i] - down[i])
     }, numeric(length(e)))
-    s <- em$basis %*% (at$var * t(em$basis))
-    diag(s) <- diag(s) + em$s2r + em$noise_sd^2
+    s <- em$basis$B %*% (at$var * t(em$basis$B))
+    diag(s) <- diag(s) + em$basis$s2r + em$noise_sd^2
     sj <- solve(s, j)
     a <- solve(crossprod(j, sj))
     drop(a %*% crossprod(sj, e)) / sqrt(diag(a))
@@ -140,15 +84,17 @@ honesty <- function(em, k) {
 }
 
 stage2 <- function(em, k, model) {
-  gps <- em$components
-  mt <- nrow(em$tc)
+  basis <- em$basis
+  gps <- basis$components
+  mt <- nrow(basis$tc)
+  q <- ncol(basis$tc)
   stan_data <- list(
-    n = length(em$mu), pc = em$pc, q = ncol(em$tc), mt = mt,
-    r0 = (em$problem$field$y - em$data$scaling$y_center) / em$data$scaling$y_scale - em$mu,
-    K = em$basis, s2r = em$s2r, tc = em$tc,
+    n = length(basis$mu), pc = length(gps), q = q, mt = mt,
+    r0 = em$data$y - basis$mu,
+    K = basis$B, s2r = basis$s2r, tc = basis$tc,
     alpha = matrix(vapply(gps, `[[`, numeric(mt), "alpha"), mt),
-    bcoef = matrix(vapply(gps, `[[`, numeric(ncol(em$tc) + 1), "b"), ncol = em$pc),
-    beta = matrix(vapply(gps, `[[`, numeric(ncol(em$tc)), "beta"), ncol = em$pc),
+    bcoef = matrix(vapply(gps, `[[`, numeric(q + 1), "b"), ncol = length(gps)),
+    beta = matrix(vapply(gps, `[[`, numeric(q), "beta"), ncol = length(gps)),
     s2 = vapply(gps, `[[`, numeric(1), "s2"), nug = vapply(gps, `[[`, numeric(1), "nug"),
     Ki = do.call(rbind, lapply(gps, `[[`, "ki")))
   start <- Sys.time()
@@ -175,10 +121,10 @@ model <- if (run_fits) rstan::stan_model(file.path("bench", "basis_stage2.stan")
 for (s in strsplit(strsplit(spec, ",")[[1]], ":")) {
   k <- as.integer(strsplit(s[3], "-")[[1]])
   for (kk in seq(k[1], k[length(k)])) {
-    em <- basis_emulator(as.integer(s[1]), as.integer(s[2]), kk)
+    em <- problem_emulator(as.integer(s[1]), as.integer(s[2]), kk)
     h <- honesty(em, kk)
-    row <- data.frame(n = s[1], mt = s[2], problem = kk, components = em$pc,
-                      truncated_sd_over_noise = round(sqrt(em$s2r) / em$noise_sd, 2),
+    row <- data.frame(n = s[1], mt = s[2], problem = kk, components = length(em$basis$components),
+                      truncated_sd_over_noise = round(sqrt(em$basis$s2r) / em$noise_sd, 2),
                       over_1.645 = paste(sprintf("%.2f", h$over), collapse = " "),
                       median_abs_z = paste(sprintf("%.2f", h$median), collapse = " "))
     if (run_fits) row <- cbind(row, stage2(em, kk, model))
