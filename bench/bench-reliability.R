@@ -22,7 +22,8 @@
 # parameters put on a log or reciprocal scale, and the check of the
 # emulator by validate_emulator() on the problem's simulator at 20 draws:
 # each parameter's `shift` and the posterior mean's distance from the truth
-# (`bias_sd`), both in posterior sds, the verdict (`emulator_trusted`), its
+# (`bias_sd`), both in posterior sds, the shift over the sd the emulator's
+# stated error explains (`shift_z`), the verdict (`emulator_trusted`), its
 # per-period part (`emulator_coverage`, `rmse_over_noise`), and the coverage
 # of the fits it trusted (`coverage_trusted`).
 # With BENCH_REFINE=r (r > 0) each problem is then refined once, as the
@@ -30,9 +31,11 @@
 # the first fit, added to the mt runs, and a second fit, reported as size
 # (n, mt + r) with its wall time (both fits and the runs).
 # With BENCH_CSV=<file>, each problem's row is also appended to that CSV file
-# (so that runs over several sessions can be pooled).
+# (so that runs over several sessions can be pooled); with BENCH_SAVE=<dir>
+# each fit is saved there as fit-<n>-<mt>-<problem>.rds.
 # Usage, from the package root, with bayesbem installed:
-#   [BENCH_CALIBRATE='list(...)'] [BENCH_REFINE=r] [BENCH_CSV=file] Rscript bench/bench-reliability.R \
+#   [BENCH_CALIBRATE='list(...)'] [BENCH_REFINE=r] [BENCH_CSV=file] [BENCH_SAVE=dir] \
+#   Rscript bench/bench-reliability.R \
 #     [sizes as n:mt:problems, comma-separated; default 12:10:10,12:30:10,36:30:10,120:30:3,365:30:3]
 # `problems` is a count (problems 1 to k) or a range k1-k2 (e.g. 365:30:2-3).
 suppressPackageStartupMessages(library(bayesbem))
@@ -57,6 +60,8 @@ fit_problem <- function(problem, runs, k) {
 one_problem <- function(n, mt, k) {
   problem <- bayesbem:::synthetic_problem(n, mt, k)
   wall <- system.time(fit <- fit_problem(problem, problem$runs, k))[["elapsed"]]
+  save_dir <- Sys.getenv("BENCH_SAVE")
+  if (nzchar(save_dir)) saveRDS(fit, file.path(save_dir, sprintf("fit-%d-%d-%d.rds", n, mt, k)))
   first <- evaluate(fit, problem, n, mt, k, wall)
   if (refine == 0L) {
     return(first)
@@ -121,6 +126,8 @@ evaluate <- function(fit, problem, n, mt, k, wall) {
              bias_sd = paste(sprintf("%.2f", (colMeans(draws) - unlist(truth)) /
                                        apply(draws, 2, stats::sd)), collapse = " "),
              shift = paste(sprintf("%.2f", check$shift$shift), collapse = " "),
+             # the shifts over the sd the emulator's stated error explains
+             shift_z = paste(sprintf("%.1f", check$shift$z), collapse = " "),
              emulator_trusted = check$trusted,
              # the verdict's per-period part: the share of the simulator's
              # outputs inside the emulator's 90 % intervals, RMSE / noise sd

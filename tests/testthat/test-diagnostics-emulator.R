@@ -50,8 +50,26 @@ test_that("the calibration shift is the step to where the simulator's outputs fi
   for (structure in c("grid", "dense")) {
     g <- bayesbem:::gp_geometry(data, NULL, structure)
     s <- bayesbem:::runs_mean(g, par, par$tf + d)
-    expect_equal(bayesbem:::emulator_shift(g, par, s), d, tolerance = 0.05)
+    expect_equal(bayesbem:::emulator_shift(g, par, s)$shift, d, tolerance = 0.05)
   }
+})
+
+test_that("the shift's stated sd is the spread of the shifts the emulator's stated error causes", {
+  # outputs drawn from the emulator's own predictive given the runs,
+  # N(m(tf), S_e): the shifts' sample sds match the stated sd
+  withr::local_seed(8)
+  data <- seb_fit$data
+  par <- bayesbem:::draw_parameters(seb_fit, 5)[[2]]
+  g <- bayesbem:::gp_geometry(data, NULL, "grid")
+  fm <- bayesbem:::runs_field(g, par)
+  s_e <- fm$cov - bayesbem:::delta_cov(g$ff, par) - diag(1 / par$lambda_e, data$n)
+  e <- eigen(s_e, symmetric = TRUE)
+  root <- e$vectors %*% diag(sqrt(pmax(e$values, 0)))
+  draws <- fm$mean + root %*% matrix(stats::rnorm(data$n * 400), data$n)
+  shifts <- t(apply(draws, 2, function(s) bayesbem:::emulator_shift(g, par, s)$shift))
+  stated <- bayesbem:::emulator_shift(g, par, fm$mean)
+  expect_equal(stated$shift, rep(0, data$q), tolerance = 1e-8)
+  expect_equal(apply(shifts, 2, stats::sd), stated$sd, tolerance = 0.1)
 })
 
 test_that("an emulator whose error moves a parameter is not trusted, and the verdict names it", {
@@ -67,6 +85,7 @@ test_that("an emulator whose error moves a parameter is not trusted, and the ver
   check <- validate_emulator(case$base, offset, ndraws = 8)
   expect_false(check$trusted)
   expect_equal(check$shift$shift[1], 2, tolerance = 0.15)
+  expect_gt(abs(check$shift$z[1]), stats::qnorm(1 - 0.05 / 2))
   expect_lt(abs(check$shift$shift[2]), 0.5)
   expect_match(check$verdict, "moves equipment_power_density by [12][.][0-9]+ posterior sd")
   expect_output(print(check), "Shift of the calibration")

@@ -38,7 +38,8 @@ reference_basis <- function(sd, basis, pars) {
     sum(stats::dbeta(pars$rho_delta, sd$rho_delta_a, sd$rho_delta_b, log = TRUE)) +
     stats::dgamma(pars$lambda_delta, sd$lambda_delta_shape, sd$lambda_delta_rate, log = TRUE) +
     stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE)
-  list(mean = mean, cov = cov, lp = lp)
+  eta_var <- vapply(seq_len(n), function(i) sum(basis$B[i, ]^2 * comp[2, ]), numeric(1)) + basis$s2r
+  list(mean = mean, cov = cov, eta_var = eta_var, lp = lp)
 }
 
 test_that("the basis holds the runs: mean, components and truncated rest", {
@@ -128,6 +129,10 @@ test_that("stage 2 of a basis fit has the log density of the basis emulator give
       fm <- bayesbem:::runs_field(g, draw)
       expect_equal(fm$mean, ref$mean, tolerance = 1e-8)
       expect_equal(fm$cov, ref$cov, tolerance = 1e-8)
+      # validate_emulator()'s intervals: the basis emulator's own
+      pred <- bayesbem:::emulator_prediction(g, draw)
+      expect_equal(pred$mean, ref$mean, tolerance = 1e-8)
+      expect_equal(pred$var, ref$eta_var, tolerance = 1e-8)
       # the analytic gradient (normal_basis.hpp) against central differences
       u <- rstan::unconstrain_pars(model, pars)
       grad <- rstan::grad_log_prob(model, u)
@@ -173,4 +178,15 @@ test_that("a basis fit of daily data converges near the truth", {
   for (v in names(problem$truth)) {
     expect_lt(abs(mean(draws[, v]) - problem$truth[[v]]), 2.5 * stats::sd(draws[, v]))
   }
+  # validate_emulator() reads the basis emulator the calibration used
+  check <- validate_emulator(fit, problem$simulator, ndraws = 3)
+  basis <- fit$emulator$basis
+  par <- bayesbem:::draw_parameters(fit, 3)[[2]]
+  wv <- bayesbem:::basis_weights(basis, par$tf)
+  rows <- check$table$draw == attr(bayesbem:::draw_parameters(fit, 3), "index")[2]
+  sc <- fit$data$scaling
+  expect_equal(check$table$mean[rows], basis$mu * sc$y_scale + sc$y_center +
+                 drop(basis$B %*% wv$mean) * sc$y_scale)
+  expect_equal(check$table$sd[rows], sqrt(drop(basis$B^2 %*% wv$var) + basis$s2r) * sc$y_scale)
+  expect_true(all(is.finite(check$shift$z)))
 })
