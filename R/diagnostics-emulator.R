@@ -149,8 +149,9 @@ calibration_shift <- function(fit, g, runs) {
   stated <- matrix(vapply(steps, `[[`, numeric(fit$data$q), "sd"), ncol = length(ok))
   posterior_sd <- apply(as.matrix(fit$stanfit, pars = "tf"), 2, stats::sd)
   shifts <- t(delta / posterior_sd)
+  z <- t(delta / pmax(stated, .Machine$double.eps))
   structure(data.frame(parameter = fit$data$names$t, shift = apply(shifts, 2, stats::median),
-                       z = apply(t(delta / pmax(stated, .Machine$double.eps)), 2, stats::median), row.names = NULL),
+                       z = apply(z, 2, stats::median), row.names = NULL),
             draws = shifts)
 }
 
