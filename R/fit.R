@@ -20,15 +20,17 @@
 #'   so the fit can be repeated.
 #' @param cores Number of cores to run chains in parallel on.
 #' @param control Sampler control passed to [rstan::sampling()], a list.
-#'   By default `adapt_delta = 0.99`, and 0.9 for a modular fit of more than
-#'   36 field rows (Stan's is 0.8): smaller steps, which the curved
-#'   posteriors of GP hyperparameters and the fan / equipment ridge of the
-#'   case study need to avoid divergences and to mix. Measured
-#'   (`bench/RESULTS.md`): 4000 iterations at 0.99 made 8 of 10 joint fits
-#'   of 12 months x 10 runs converge against 3 with 2000 at 0.9, and 10 of
-#'   10 modular fits of 36 months x 30 runs against 8, at a cost of seconds
-#'   to a minute on 2 cores; above 36 rows the modular stage 2 converged
-#'   with 2000 at 0.9, which costs far less there.
+#'   By default `adapt_delta = 0.99`, and for a modular fit of more than
+#'   36 field rows 0.95 with the basis emulator and 0.9 with the separable
+#'   one (Stan's is 0.8): smaller steps, which the curved posteriors of GP
+#'   hyperparameters and the fan / equipment ridge of the case study need
+#'   to avoid divergences and to mix. Measured (`bench/RESULTS.md`): 4000
+#'   iterations at 0.99 made 8 of 10 joint fits of 12 months x 10 runs
+#'   converge against 3 with 2000 at 0.9, and 10 of 10 modular fits of 36
+#'   months x 30 runs against 8, at a cost of seconds to a minute on 2
+#'   cores; above 36 rows 2000 iterations suffice, and the basis emulator's
+#'   wider posterior along the ridge needs 0.95 (at 0.9 five of six fits of
+#'   365 days had divergent transitions), at about 1.5 times the steps.
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
 #'   paper's Appendix D; about twice as slow). Read them with
@@ -161,7 +163,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   structure <- choose_structure(data, match_choice(structure), predict_at)
   modular <- choose_modular(modular, data, structure)
   emulator_type <- choose_emulator(match_choice(emulator), modular, data)
-  defaults <- default_sampling(modular, data$n)
+  defaults <- default_sampling(modular, data$n, emulator_type)
   iter <- iter %||% defaults$iter
   control <- control %||% defaults$control
   check_count(chains)
@@ -306,11 +308,14 @@ moved_parameters <- function(fit, minor_tf) {
 # scales need (12 months x 10 runs: 8 of 10 converged against 3 of 10 with
 # 2000 at 0.9) and which the modular stage 2 needs along the fan / equipment
 # ridge at 36 months x 30 runs (10 of 10 against 8 of 10), at a cost of
-# seconds to a minute there; above 36 rows the modular stage 2 converged
-# with 2000 at 0.9 and costs far more per iteration.
-default_sampling <- function(modular, n) {
+# seconds to a minute there; above 36 rows 2000 iterations, at 0.95 with
+# the basis emulator, whose wider (honest) posterior along that ridge had
+# divergent transitions at 0.9 in five of six fits at 365 days, and at 0.9
+# with the separable one.
+default_sampling <- function(modular, n, emulator = "separable") {
   if (modular && n > 36L) {
-    return(list(iter = 2000L, control = list(adapt_delta = 0.9)))
+    delta <- if (emulator == "basis") 0.95 else 0.9
+    return(list(iter = 2000L, control = list(adapt_delta = delta)))
   }
   list(iter = 4000L, control = list(adapt_delta = 0.99))
 }

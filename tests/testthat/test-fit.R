@@ -279,13 +279,16 @@ test_that("summaries have the parameters as row names and print without scientif
 
 # bench/RESULTS.md: longer, more careful chains helped joint fits of 12
 # and 36 months and the modular stage 2 at 36 months; above 36 field rows
-# the modular stage 2 converged without them
+# the modular stage 2 needs 2000 iterations, at 0.95 with the basis emulator
 test_that("default sampling depends on the kind of fit and the data size", {
   careful <- list(iter = 4000L, control = list(adapt_delta = 0.99))
   expect_equal(bayesbem:::default_sampling(FALSE, 12), careful)
   expect_equal(bayesbem:::default_sampling(FALSE, 120), careful)
   expect_equal(bayesbem:::default_sampling(TRUE, 36), careful)
   expect_equal(bayesbem:::default_sampling(TRUE, 37), list(iter = 2000L, control = list(adapt_delta = 0.9)))
+  expect_equal(bayesbem:::default_sampling(TRUE, 37, "basis"),
+               list(iter = 2000L, control = list(adapt_delta = 0.95)))
+  expect_equal(bayesbem:::default_sampling(TRUE, 36, "basis"), careful)
 })
 
 test_that("three years of bills with 30 runs converge with the defaults (a seeded problem)", {
