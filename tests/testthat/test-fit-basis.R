@@ -172,8 +172,7 @@ test_that("a basis fit of daily data converges near the truth", {
   expect_lt(max(conv$rhat), 1.05)
   # the truth within 2.5 posterior sds of the mean: a single fit's 90 %
   # intervals miss one of three parameters by chance one time in four (the
-  # coverage rate is bench-reliability.R's to measure); this seed's infiltration
-  # sits at 1.64 sds
+  # coverage rate is bench-reliability.R's to measure)
   draws <- bayesbem:::parameter_draws(fit)
   for (v in names(problem$truth)) {
     expect_lt(abs(mean(draws[, v]) - problem$truth[[v]]), 2.5 * stats::sd(draws[, v]))
