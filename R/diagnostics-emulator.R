@@ -127,9 +127,8 @@ validate_emulator <- function(fit, simulator, ndraws = 20, level = 0.9, cache_di
 # predict(type = "eta").
 emulator_prediction <- function(g, par) {
   if (!is.null(g$basis)) {
-    wv <- basis_weights(g$basis, par$tf)
-    return(list(mean = g$basis$mu + drop(g$basis$B %*% wv$mean),
-                var = drop(g$basis$B^2 %*% wv$var) + g$basis$s2r))
+    eta <- basis_eta(g$basis, par$tf)
+    return(list(mean = eta$mean, var = drop(g$basis$B^2 %*% eta$var) + g$basis$s2r))
   }
   cond <- koh_conditional(g, par)
   rows <- seq_len(g$n)

@@ -89,16 +89,23 @@ basis_weights <- function(basis, tf) {
   list(mean = wv[1, ], var = wv[2, ])
 }
 
+# The basis emulator's eta at the field rows for scaled parameters tf:
+# `mean` mu + B w(tf) and `var`, the components' variances v(tf).
+basis_eta <- function(basis, tf) {
+  wv <- basis_weights(basis, tf)
+  list(mean = basis$mu + drop(basis$B %*% wv$mean), var = wv$var)
+}
+
 # The field outputs given the runs under the basis emulator, for one draw
 # (runs_field() of a basis fit): mean mu + B w(tf) (the emulator's; the
 # discrepancy terms h' gamma are the caller's, as for field_given_runs()),
 # covariance B diag(v(tf)) B' + Sigma_delta + (s2r + 1 / lambda_e) I.
 basis_field <- function(g, par) {
   basis <- g$basis
-  wv <- basis_weights(basis, par$tf)
-  cov <- basis$B %*% (wv$var * t(basis$B)) + delta_cov(g$ff, par)
+  eta <- basis_eta(basis, par$tf)
+  cov <- basis$B %*% (eta$var * t(basis$B)) + delta_cov(g$ff, par)
   diag(cov) <- diag(cov) + basis$s2r + 1 / par$lambda_e
-  list(mean = basis$mu + drop(basis$B %*% wv$mean), cov = cov)
+  list(mean = eta$mean, cov = cov)
 }
 
 # The data of koh_basis.stan: stage 2's common data (stage2_stan_data())

@@ -51,12 +51,6 @@ problem_emulator <- function(n, mt, k) {
        noise_sd = 0.02 * mean(attr(problem$field, "simulated")) / data$scaling$y_scale)
 }
 
-# The emulator's mean and component variances at scaled parameters t.
-emulate <- function(em, t) {
-  wv <- ns$basis_weights(em$basis, t)
-  list(mean = drop(em$basis$mu + em$basis$B %*% wv$mean), var = wv$var)
-}
-
 honesty <- function(em, k) {
   names_t <- em$data$names$t
   ranges <- em$problem$simulator$parameters
@@ -65,14 +59,14 @@ honesty <- function(em, k) {
   z <- t(apply(points, 1, function(tv) {
     t0 <- drop(ns$scale_t(matrix(tv, 1, dimnames = list(NULL, names_t)), em$data$scaling))
     sim <- attr(ns$simulate_field(em$problem$simulator, as.list(tv)), "simulated")
-    at <- emulate(em, t0)
+    at <- ns$basis_eta(em$basis, t0)
     e <- (sim - em$data$scaling$y_center) / em$data$scaling$y_scale - at$mean
     j <- vapply(seq_along(t0), function(i) {
       up <- t0
       down <- t0
       up[i] <- min(up[i] + 0.01, 1)
       down[i] <- max(down[i] - 0.01, 0)
-      (emulate(em, up)$mean - emulate(em, down)$mean) / (up[i] - down[i])
+      (ns$basis_eta(em$basis, up)$mean - ns$basis_eta(em$basis, down)$mean) / (up[i] - down[i])
     }, numeric(length(e)))
     s <- em$basis$B %*% (at$var * t(em$basis$B))
     diag(s) <- diag(s) + em$basis$s2r + em$noise_sd^2
