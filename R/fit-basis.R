@@ -122,3 +122,25 @@ basis_stan_data <- function(data, priors, emulator) {
          w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
          w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
 }
+
+# Starting values given for tf (a list per chain, as rstan::sampling()
+# takes them) as koh_basis.stan samples it: tf_u = g^-1(tf). Other forms of
+# `init` ("random", 0, a function) are rstan's.
+basis_inits <- function(init) {
+  if (!is.list(init)) {
+    return(init)
+  }
+  lapply(init, function(chain) {
+    if (is.null(chain$tf)) {
+      return(chain)
+    }
+    c(chain[names(chain) != "tf"], list(tf_u = as.array(linear_box_inverse(chain$tf))))
+  })
+}
+
+# u = g^-1(tf) for linear_box_lp() of koh_basis.stan, g(u) = a (log(1 +
+# e^(u / a)) - log(1 + e^((u - 1) / a))): with y = e^(u / a), e^(g / a) =
+# (1 + y) / (1 + e^(-1 / a) y), so y = (e^(tf / a) - 1) / (1 - e^((tf - 1) / a)).
+linear_box_inverse <- function(tf, a = 0.05) {
+  a * (log(expm1(tf / a)) - log(-expm1((tf - 1) / a)))
+}

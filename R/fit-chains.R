@@ -171,8 +171,8 @@ chain_divergences <- function(fits) {
 # one-chain stanfit, at iterations spread over its second half.
 restart_inits <- function(fit, n) {
   draws <- as.array(fit)[, 1, ]
-  pars <- intersect(names(fit@par_dims), unlist(parameter_block(), use.names = FALSE))
   base <- sub("\\[.*$", "", colnames(draws))
+  pars <- intersect(names(fit@par_dims), unlist(parameter_block(base), use.names = FALSE))
   rows <- round(seq(nrow(draws) / 2, nrow(draws), length.out = n))
   lapply(rows, function(i) {
     values <- lapply(pars, function(p) {
@@ -187,11 +187,14 @@ restart_inits <- function(fit, n) {
 # The names in the parameters blocks of the package's Stan programs
 # (koh_parameters.stan, koh_emulator.stan, koh_modular.stan, koh_basis.stan,
 # koh.stan), by Stan's transform to the unconstrained scale: logit for the
-# (0, 1) parameters, log for the precisions, none for the rest.
-parameter_block <- function() {
-  list(logit = c("tf", "rho_eta", "rho_delta"),
+# (0, 1) parameters, log for the precisions, none for the rest. Where the
+# draws' variables (`names`) hold tf_u, koh_basis.stan's, tf is one of its
+# transformed parameters; tf_u is taken as it is (Stan's unconstrained value
+# is tf_u / 0.25, the same factor for every chain).
+parameter_block <- function(names = character()) {
+  list(logit = c(if (!"tf_u" %in% names) "tf", "rho_eta", "rho_delta"),
        log = c("lambda_eta", "lambda_delta", "lambda_e"),
-       identity = c("b", "gamma", "y_pred"))
+       identity = c("b", "gamma", "y_pred", "tf_u"))
 }
 
 # A chain's draws of the parameters block on Stan's unconstrained scale
@@ -199,7 +202,7 @@ parameter_block <- function() {
 # left out.
 unconstrained_draws <- function(draws) {
   base <- sub("\\[.*$", "", colnames(draws))
-  block <- parameter_block()
+  block <- parameter_block(base)
   cbind(stats::qlogis(draws[, base %in% block$logit, drop = FALSE]),
         log(draws[, base %in% block$log, drop = FALSE]),
         draws[, base %in% block$identity, drop = FALSE])

@@ -30,7 +30,14 @@
 #'   months x 30 runs against 8, at a cost of seconds to a minute on 2
 #'   cores; above 36 rows 2000 iterations suffice, and the basis emulator's
 #'   wider posterior along the ridge needs 0.95 (at 0.9 five of six fits of
-#'   365 days had divergent transitions), at about 1.5 times the steps.
+#'   365 days had divergent transitions). A basis fit also adapts a dense
+#'   metric (`metric = "dense_e"`): it samples the calibration parameters
+#'   on a scale on which the ridge a year of daily data leaves is straight
+#'   (see `emulator`), so one linear map fits it; at 365 days x 30 runs it
+#'   took 16-25 steps per iteration against 59-75 with the diagonal metric,
+#'   converged in 4 of 6 problems (the other two at R-hat 1.0105 and
+#'   1.0115; diagonal: 5 of 6) and took 5-7 minutes on 2 cores (diagonal:
+#'   12-20).
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
 #'   paper's Appendix D; about twice as slow). Read them with
@@ -83,7 +90,11 @@
 #'   moves the calibration (`bench/RESULTS.md`). Predictions,
 #'   leave-one-out and the discrepancy tools use the separable emulator
 #'   fitted at stage 1 in either case; [validate_emulator()] and
-#'   [identifiability()] read the one stage 2 used. Needs a modular fit.
+#'   [identifiability()] read the one stage 2 used. A basis fit's stage 2
+#'   samples the calibration parameters on \[0, 1\] as `tf_u`, `tf =
+#'   g(tf_u)` with `g` within 0.02 of the identity on \[0.05, 0.95\] and exponential
+#'   tails beyond (instead of Stan's logit, on which the ridge bends
+#'   towards the range's ends). Needs a modular fit.
 #'   `"auto"` (the default) chooses `"basis"` for a modular fit of more
 #'   than 36 field rows, `"separable"` otherwise.
 #' @param minor_modes What to do with chains stuck in a minor mode of the
@@ -117,7 +128,10 @@
 #' @param ... Further arguments to [rstan::sampling()]: `init`, `init_r`,
 #'   `refresh`, `thin`, `save_warmup`, `sample_file`, `diagnostic_file`,
 #'   `verbose`, `check_data`, `show_messages` or `enable_random_init` (any
-#'   other is an error).
+#'   other is an error). Starting values given as a list per chain name
+#'   the Stan program's parameters, `tf` for the calibration parameters on
+#'   \[0, 1\]; a basis fit samples them as `tf_u` (on a scale linear inside
+#'   \[0, 1\]) and converts the `tf` given.
 #' @section Linear algebra: With many field rows (daily data) each gradient
 #'   of a grid or modular fit is one Cholesky factor and one inverse of the
 #'   n x n covariance of the field outputs. They are computed by Eigen, or
@@ -125,7 +139,7 @@
 #'   BLIS, ATLAS or Apple's Accelerate, told by the name of
 #'   `extSoftVersion()[["BLAS"]]`): at 365 days, 2.1 ms per stage-2
 #'   gradient on OpenBLAS against 4.3-5.1 ms with Eigen and 15-16 ms with
-#'   R's reference BLAS, and a fit of a year of daily data in 8-9 minutes
+#'   R's reference BLAS, and a fit of a year of daily data in 5-7 minutes
 #'   on 2 cores (`bench/RESULTS.md`). To speed up such fits, link R to
 #'   OpenBLAS, its serial build since the chains already share the cores
 #'   (on Debian or Ubuntu, `apt install libopenblas0-serial`).
@@ -192,7 +206,10 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                   })
   # `emulator` names the choice; stage 1 is the fitted emulator
   stage1 <- if (modular) fit_emulator(data, priors, seed, sampler$on_failure)
-  if (emulator_type == "basis") stage1$basis <- basis_emulator(data)
+  if (emulator_type == "basis") {
+    stage1$basis <- basis_emulator(data)
+    sampler$args$init <- basis_inits(sampler$args$init)
+  }
   stan_data <- if (emulator_type == "basis") basis_stan_data(data, priors, stage1) else
     if (modular) modular_stan_data(data, priors, stage1) else
     koh_stan_data(data, priors, if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at"),
@@ -308,14 +325,18 @@ moved_parameters <- function(fit, minor_tf) {
 # scales need (12 months x 10 runs: 8 of 10 converged against 3 of 10 with
 # 2000 at 0.9) and which the modular stage 2 needs along the fan / equipment
 # ridge at 36 months x 30 runs (10 of 10 against 8 of 10), at a cost of
-# seconds to a minute there; above 36 rows 2000 iterations, at 0.95 with
-# the basis emulator, whose wider (honest) posterior along that ridge had
-# divergent transitions at 0.9 in five of six fits at 365 days, and at 0.9
-# with the separable one.
+# seconds to a minute there; above 36 rows 2000 iterations, at 0.9 with
+# the separable emulator and with the basis emulator at 0.95 (its wider,
+# honest posterior along that ridge had divergent transitions at 0.9 in
+# five of six fits at 365 days) with a dense metric, which the ridge,
+# straight on the scale koh_basis.stan samples tf on, lets NUTS take in
+# 16-25 steps per iteration instead of 59-75 (inst/notes/design.md,
+# "Stage-2 geometry").
 default_sampling <- function(modular, n, emulator = "separable") {
   if (modular && n > 36L) {
-    delta <- if (emulator == "basis") 0.95 else 0.9
-    return(list(iter = 2000L, control = list(adapt_delta = delta)))
+    control <- if (emulator == "basis") list(adapt_delta = 0.95, metric = "dense_e") else
+      list(adapt_delta = 0.9)
+    return(list(iter = 2000L, control = control))
   }
   list(iter = 4000L, control = list(adapt_delta = 0.99))
 }

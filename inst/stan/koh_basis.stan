@@ -7,10 +7,30 @@
 // process fixed at stage 1 (R/fit-basis.R). Given the runs,
 //   y - h' gamma ~ N(mu + B w(tf), B diag(v(tf)) B' + Sigma_delta + (s2r + 1 / lambda_e) I),
 // each gradient one Cholesky factor and one inverse of an n x n matrix (C++,
-// normal_basis_lpdf()). The separable emulator of stage 1 is passed through
-// to the generated quantities: the package predicts with it.
+// normal_basis_lpdf()). tf is sampled on a scale linear inside [0, 1]
+// (linear_box_lp()), where the ridge a year of daily data leaves is
+// straight, so that a dense metric fits it (inst/notes/design.md, "Stage-2
+// geometry"). The separable emulator of stage 1 is passed through to the
+// generated quantities: the package predicts with it.
 functions {
 #include /include/koh_functions.stan
+  /* The calibration parameters on [0, 1] from unconstrained u, linear
+   * inside and with exponential tails within about a of the bounds:
+   *   g(u) = a (log(1 + e^(u / a)) - log(1 + e^((u - 1) / a))),
+   * g(u) ~ u on [a, 1 - a], a e^(u / a) below 0, 1 - a e^((1 - u) / a)
+   * above 1; adds log g'(u) = log(inv_logit(u / a) - inv_logit((u - 1) / a))
+   * to the target (change of variables). Used here in place of
+   * Stan's logit: the ridge that a year of daily data leaves along the
+   * parameters is straight on [0, 1] and bends on the logit scale
+   * (inst/notes/design.md, "Stage-2 geometry"). */
+  vector linear_box_lp(vector u, real a) {
+    vector[rows(u)] tf;
+    for (k in 1:rows(u)) {
+      tf[k] = a * (log1p_exp(u[k] / a) - log1p_exp((u[k] - 1) / a));
+      target += log_diff_exp(log_inv_logit(u[k] / a), log_inv_logit((u[k] - 1) / a));
+    }
+    return tf;
+  }
 }
 data {
   int<lower=1> n;                        // field observations
@@ -39,13 +59,16 @@ data {
   matrix[mt * pc, mt] w_Ki;              // Kj^-1, stacked
 }
 parameters {
-  vector<lower=0, upper=1>[q] tf;        // calibration parameters
+  // calibration parameters, tf = g(tf_u); sampled as tf_u / 0.25, so that
+  // NUTS's first, unit metric has the logit's scale at tf = 1/2
+  vector<multiplier=0.25>[q] tf_u;
   vector<lower=0, upper=1>[p] rho_delta;
   real<lower=0> lambda_delta;            // precision of the discrepancy
   real<lower=0> lambda_e;                // precision of the observation error
   vector[n_h] gamma;                     // coefficients of the discrepancy terms
 }
 transformed parameters {
+  vector[q] tf = linear_box_lp(tf_u, 0.05);
   vector[p] beta_delta = -4 * log(rho_delta);
 }
 model {

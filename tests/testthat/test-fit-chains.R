@@ -181,6 +181,10 @@ test_that("draws go to Stan's unconstrained scale, parameters block only", {
   expect_equal(unname(u[, 1]), log(c(0.2, 0.7) / c(0.8, 0.3)))
   expect_equal(unname(u[, 2]), stats::qlogis(c(0.5, 0.9)))
   expect_equal(unname(u[, 3]), log(c(10, 400)))
+  # koh_basis.stan samples tf_u; its tf is a transformed parameter
+  u <- bayesbem:::unconstrained_draws(cbind(draws, `tf_u[1]` = c(-1, 3)))
+  expect_equal(colnames(u), c("rho_eta[2]", "lambda_e", "b[1]", "tf_u[1]"))
+  expect_equal(unname(u[, 4]), c(-1, 3))
 })
 
 test_that("dropped and restarted chains are named in the message and the summary", {

@@ -287,7 +287,7 @@ test_that("default sampling depends on the kind of fit and the data size", {
   expect_equal(bayesbem:::default_sampling(TRUE, 36), careful)
   expect_equal(bayesbem:::default_sampling(TRUE, 37), list(iter = 2000L, control = list(adapt_delta = 0.9)))
   expect_equal(bayesbem:::default_sampling(TRUE, 37, "basis"),
-               list(iter = 2000L, control = list(adapt_delta = 0.95)))
+               list(iter = 2000L, control = list(adapt_delta = 0.95, metric = "dense_e")))
   expect_equal(bayesbem:::default_sampling(TRUE, 36, "basis"), careful)
 })
 
