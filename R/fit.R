@@ -91,10 +91,11 @@
 #'   leave-one-out and the discrepancy tools use the separable emulator
 #'   fitted at stage 1 in either case; [validate_emulator()] and
 #'   [identifiability()] read the one stage 2 used. A basis fit's stage 2
-#'   samples the calibration parameters on \[0, 1\] as `tf_u`, `tf =
-#'   g(tf_u)` with `g` within 0.02 of the identity on \[0.05, 0.95\] and exponential
-#'   tails beyond (instead of Stan's logit, on which the ridge bends
-#'   towards the range's ends). Needs a modular fit.
+#'   samples the calibration parameters on \[0, 1\] as `tf_u`,
+#'   `tf = g(tf_u)` with `g` within 0.02 of the identity on
+#'   \[0.05, 0.95\] and exponential tails beyond (instead of Stan's logit,
+#'   on which the ridge bends towards the range's ends). Needs a modular
+#'   fit.
 #'   `"auto"` (the default) chooses `"basis"` for a modular fit of more
 #'   than 36 field rows, `"separable"` otherwise.
 #' @param minor_modes What to do with chains stuck in a minor mode of the
