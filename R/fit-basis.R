@@ -116,12 +116,20 @@ basis_stan_data <- function(data, priors, emulator) {
   mt <- nrow(basis$tc)
   field <- function(name, size) matrix(vapply(gps, `[[`, numeric(size), name), ncol = length(gps))
   c(stage2_stan_data(data, priors, emulator),
-    list(pc = length(gps), mu_f = basis$mu, B = basis$B, s2r = basis$s2r,
+    list(tf_edge = linear_box$edge, tf_multiplier = linear_box$multiplier,
+         pc = length(gps), mu_f = basis$mu, B = basis$B, s2r = basis$s2r,
          w_coef = field("b", data$q + 1), w_beta = field("beta", data$q),
          w_s2 = as.array(vapply(gps, `[[`, numeric(1), "s2")),
          w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
          w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
 }
+
+# The scale koh_basis.stan samples tf on, passed to it as data: `edge`, the
+# width a of g's exponential tails (linear_box_lp(), linear_box_inverse()),
+# and `multiplier`, the unit of tf_u for Stan (the logit's scale at tf = 1/2,
+# so that NUTS's first, unit metric fits; inst/notes/design.md, "Stage-2
+# geometry").
+linear_box <- list(edge = 0.05, multiplier = 0.25)
 
 # Starting values given for tf (a list per chain, as rstan::sampling()
 # takes them) as koh_basis.stan samples it: tf_u = g^-1(tf). Other forms of
@@ -141,6 +149,6 @@ basis_inits <- function(init) {
 # u = g^-1(tf) for linear_box_lp() of koh_basis.stan, g(u) = a (log(1 +
 # e^(u / a)) - log(1 + e^((u - 1) / a))): with y = e^(u / a), e^(g / a) =
 # (1 + y) / (1 + e^(-1 / a) y), so y = (e^(tf / a) - 1) / (1 - e^((tf - 1) / a)).
-linear_box_inverse <- function(tf, a = 0.05) {
+linear_box_inverse <- function(tf, a = linear_box$edge) {
   a * (log(expm1(tf / a)) - log(-expm1((tf - 1) / a)))
 }

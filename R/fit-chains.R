@@ -190,7 +190,7 @@ restart_inits <- function(fit, n) {
 # (0, 1) parameters, log for the precisions, none for the rest. Where the
 # draws' variables (`names`) hold tf_u, koh_basis.stan's, tf is one of its
 # transformed parameters; tf_u is taken as it is (Stan's unconstrained value
-# is tf_u / 0.25, the same factor for every chain).
+# is tf_u / linear_box$multiplier, the same factor for every chain).
 parameter_block <- function(names = character()) {
   list(logit = c(if (!"tf_u" %in% names) "tf", "rho_eta", "rho_delta"),
        log = c("lambda_eta", "lambda_delta", "lambda_e"),

@@ -42,6 +42,9 @@ data {
   matrix[mt, q] tc;                      // simulation design, one row per run
 #include /include/koh_prior_data.stan
   int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
+  // the scale of tf_u (R/fit-basis.R, linear_box)
+  real<lower=0, upper=0.5> tf_edge;      // a, the width of g's tails
+  real<lower=0> tf_multiplier;           // Stan samples tf_u / tf_multiplier
   // the separable stage-1 emulator, for predictions
   vector[p + q] beta_eta_fixed;
   real<lower=0> lambda_eta_fixed;
@@ -59,16 +62,15 @@ data {
   matrix[mt * pc, mt] w_Ki;              // Kj^-1, stacked
 }
 parameters {
-  // calibration parameters, tf = g(tf_u); sampled as tf_u / 0.25, so that
-  // NUTS's first, unit metric has the logit's scale at tf = 1/2
-  vector<multiplier=0.25>[q] tf_u;
+  // calibration parameters, tf = g(tf_u), sampled as tf_u / tf_multiplier
+  vector<multiplier=tf_multiplier>[q] tf_u;
   vector<lower=0, upper=1>[p] rho_delta;
   real<lower=0> lambda_delta;            // precision of the discrepancy
   real<lower=0> lambda_e;                // precision of the observation error
   vector[n_h] gamma;                     // coefficients of the discrepancy terms
 }
 transformed parameters {
-  vector[q] tf = linear_box_lp(tf_u, 0.05);
+  vector[q] tf = linear_box_lp(tf_u, tf_edge);
   vector[p] beta_delta = -4 * log(rho_delta);
 }
 model {

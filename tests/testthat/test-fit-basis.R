@@ -128,8 +128,12 @@ test_that("stage 2 of a basis fit has the log density of the basis emulator give
       stan_pars <- c(list(tf_u = as.array(u)), pars[names(pars) != "tf"])
       expect_equal(as.numeric(rstan::constrain_pars(model, rstan::unconstrain_pars(model, stan_pars))$tf),
                    as.numeric(pars$tf), tolerance = 1e-10)
-      # log g'(u), g'(u) = inv_logit(u / a) - inv_logit((u - 1) / a), a = 0.05
-      jacobian <- sum(log(stats::plogis(u / 0.05) - stats::plogis((u - 1) / 0.05)))
+      # Stan samples tf_u in units of the multiplier it receives
+      expect_equal(rstan::unconstrain_pars(model, stan_pars)[seq_len(q)],
+                   as.numeric(u) / sd$tf_multiplier, tolerance = 1e-10)
+      # log g'(u), g'(u) = inv_logit(u / a) - inv_logit((u - 1) / a)
+      a <- sd$tf_edge
+      jacobian <- sum(log(stats::plogis(u / a) - stats::plogis((u - 1) / a)))
       expect_equal(stan_log_density(model, stan_pars), ref$lp + jacobian, tolerance = 1e-8)
       # what validate_emulator() and identifiability() read for a basis fit
       draw <- as_draw_pars(c(pars, list(rho_eta = rep(0.5, d$p + d$q), lambda_eta = 1,
@@ -159,12 +163,14 @@ test_that("starting values given for tf reach a basis fit's Stan program as tf_u
                                        list(lambda_e = 3)))
   expect_named(inits[[1]], c("lambda_e", "tf_u"))
   u <- inits[[1]]$tf_u
-  # g(u) = a (log(1 + e^(u / a)) - log(1 + e^((u - 1) / a))), a = 0.05
-  expect_equal(as.numeric(0.05 * (log1p(exp(u / 0.05)) - log1p(exp((u - 1) / 0.05)))),
+  # g(u) = a (log(1 + e^(u / a)) - log(1 + e^((u - 1) / a))), a the edge
+  # koh_basis.stan receives
+  a <- bayesbem:::linear_box$edge
+  expect_equal(as.numeric(a * (log1p(exp(u / a)) - log1p(exp((u - 1) / a)))),
                c(0.001, 0.2, 0.9, 0.999))
   # linear inside: u - g(u) ~ a (e^(-(1 - u) / a) - e^(-u / a))
   tf <- c(0.2, 0.9)
-  expect_equal(as.numeric(u[2:3]) - tf, 0.05 * (exp(-(1 - tf) / 0.05) - exp(-tf / 0.05)),
+  expect_equal(as.numeric(u[2:3]) - tf, a * (exp(-(1 - tf) / a) - exp(-tf / a)),
                tolerance = 0.1)
   expect_equal(inits[[2]], list(lambda_e = 3))
   expect_equal(bayesbem:::basis_inits("random"), "random")
