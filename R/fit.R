@@ -13,9 +13,11 @@
 #' @param sim The simulation data frame when `field` is a data frame.
 #' @param priors A [koh_priors()] object.
 #' @param chains,iter Number of Markov chains and iterations per chain
-#'   (including warm-up). By default 4000 iterations, and 2000 for a
-#'   modular fit of more than 36 field rows (see `control`).
-#' @param warmup Warm-up iterations per chain; defaults to half of `iter`.
+#'   (including warm-up). By default 4000 iterations, and for a modular
+#'   fit of more than 36 field rows 2000 with the separable emulator and
+#'   3000 with the basis emulator (see `control`).
+#' @param warmup Warm-up iterations per chain; defaults to half of `iter`,
+#'   and to 1000 in the default 3000 iterations of a basis fit.
 #' @param seed Random seed; by default one is drawn and stored in the result
 #'   so the fit can be repeated.
 #' @param cores Number of cores to run chains in parallel on.
@@ -34,10 +36,13 @@
 #'   metric (`metric = "dense_e"`): it samples the calibration parameters
 #'   on a scale on which the ridge a year of daily data leaves is straight
 #'   (see `emulator`), so one linear map fits it; at 365 days x 30 runs it
-#'   took 16-25 steps per iteration against 59-75 with the diagonal metric,
-#'   converged in 4 of 6 problems (the other two at R-hat 1.0105 and
-#'   1.0115; diagonal: 5 of 6) and took 5-7 minutes on 2 cores (diagonal:
-#'   12-20).
+#'   took 16-25 steps per iteration against 59-75 with the diagonal metric.
+#'   Along that ridge the chains mix slowly, so a basis fit draws 2000
+#'   iterations per chain after 1000 of warm-up: at 365 days x 30 runs 6
+#'   of 6 problems converged (R-hat at most 1.0064, bulk ESS at least
+#'   855; with 1000 draws 4 of 6, the other two at R-hat 1.0105 and
+#'   1.0115; with 1500 after 1500 of warm-up one of four missed), in
+#'   7-10 minutes on 2 cores (the diagonal metric: 12-20).
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
 #'   paper's Appendix D; about twice as slow). Read them with
@@ -140,7 +145,7 @@
 #'   BLIS, ATLAS or Apple's Accelerate, told by the name of
 #'   `extSoftVersion()[["BLAS"]]`): at 365 days, 2.1 ms per stage-2
 #'   gradient on OpenBLAS against 4.3-5.1 ms with Eigen and 15-16 ms with
-#'   R's reference BLAS, and a fit of a year of daily data in 5-7 minutes
+#'   R's reference BLAS, and a fit of a year of daily data in 7-10 minutes
 #'   on 2 cores (`bench/RESULTS.md`). To speed up such fits, link R to
 #'   OpenBLAS, its serial build since the chains already share the cores
 #'   (on Debian or Ubuntu, `apt install libopenblas0-serial`).
@@ -179,16 +184,12 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   modular <- choose_modular(modular, data, structure)
   emulator_type <- choose_emulator(match_choice(emulator), modular, data)
   defaults <- default_sampling(modular, data$n, emulator_type)
-  iter <- iter %||% defaults$iter
-  control <- control %||% defaults$control
   check_count(chains)
-  check_count(iter)
   check_count(cores)
-  warmup <- warmup %||% floor(iter / 2)
-  if (!isTRUE(checkmate::check_count(warmup)) || warmup >= iter) {
-    abort_bayesbem("{.arg warmup} must be a whole number from 0 to {.arg iter} - 1 ({iter - 1}), not {describe_value(warmup)}.",
-                   "argument")
-  }
+  lengths <- sampling_lengths(iter, warmup, defaults)
+  iter <- lengths$iter
+  warmup <- lengths$warmup
+  control <- control %||% defaults$control
   seed <- seed %||% sample.int(.Machine$integer.max, 1L)
   check_count(seed)
   check_bool(progress)
@@ -320,26 +321,43 @@ moved_parameters <- function(fit, minor_tf) {
           signif(physical["upper", k], 3))
 }
 
+# The iterations and warm-up of a fit: the caller's, else the defaults of
+# default_sampling(); an `iter` of the caller's own has half of it as warm-up.
+sampling_lengths <- function(iter, warmup, defaults, call = rlang::caller_env()) {
+  if (!is.null(iter)) check_count(iter, call = call)
+  warmup <- warmup %||% if (is.null(iter)) defaults$warmup else floor(iter / 2)
+  iter <- iter %||% defaults$iter
+  if (!isTRUE(checkmate::check_count(warmup)) || warmup >= iter) {
+    abort_bayesbem("{.arg warmup} must be a whole number from 0 to {.arg iter} - 1 ({iter - 1}), not {describe_value(warmup)}.",
+                   "argument", call = call)
+  }
+  list(iter = iter, warmup = warmup)
+}
+
 # The iterations and sampler control of a fit whose caller gives none,
 # chosen by measurement (bench/RESULTS.md, reliability): up to 36 field rows
 # 4000 iterations at adapt_delta 0.99, which a joint fit's emulator length
 # scales need (12 months x 10 runs: 8 of 10 converged against 3 of 10 with
 # 2000 at 0.9) and which the modular stage 2 needs along the fan / equipment
 # ridge at 36 months x 30 runs (10 of 10 against 8 of 10), at a cost of
-# seconds to a minute there; above 36 rows 2000 iterations, at 0.9 with
-# the separable emulator and with the basis emulator at 0.95 (its wider,
-# honest posterior along that ridge had divergent transitions at 0.9 in
-# five of six fits at 365 days) with a dense metric, which the ridge,
-# straight on the scale koh_basis.stan samples tf on, lets NUTS take in
-# 16-25 steps per iteration instead of 59-75 (inst/notes/design.md,
-# "Stage-2 geometry").
+# seconds to a minute there; above 36 rows 2000 iterations at 0.9 with
+# the separable emulator; with the basis emulator 0.95 (its wider, honest
+# posterior along that ridge had divergent transitions at 0.9 in five of
+# six fits at 365 days) with a dense metric, which the ridge, straight on
+# the scale koh_basis.stan samples tf on, lets NUTS take in 16-25 steps
+# per iteration instead of 59-75 (inst/notes/design.md, "Stage-2
+# geometry"), and 2000 draws after 1000 warm-up iterations, since the
+# chains mix slowly along the ridge (365 days: 1000 draws left R-hat
+# 1.0105-1.0115 in 2 of 6 problems, 2000 at most 1.0064 in all six).
 default_sampling <- function(modular, n, emulator = "separable") {
-  if (modular && n > 36L) {
-    control <- if (emulator == "basis") list(adapt_delta = 0.95, metric = "dense_e") else
-      list(adapt_delta = 0.9)
-    return(list(iter = 2000L, control = control))
+  if (modular && n > 36L && emulator == "basis") {
+    return(list(iter = 3000L, warmup = 1000L,
+                control = list(adapt_delta = 0.95, metric = "dense_e")))
   }
-  list(iter = 4000L, control = list(adapt_delta = 0.99))
+  if (modular && n > 36L) {
+    return(list(iter = 2000L, warmup = 1000L, control = list(adapt_delta = 0.9)))
+  }
+  list(iter = 4000L, warmup = 2000L, control = list(adapt_delta = 0.99))
 }
 
 # modular = "auto": two stages on a grid design, the joint fit otherwise

@@ -191,11 +191,13 @@ test_that("the basis emulator needs a modular fit, and \"auto\" picks it above 3
 test_that("a basis fit of daily data converges near the truth", {
   skip_on_cran()
   problem <- bayesbem:::synthetic_problem(60, 15, 2)
-  # the default iterations: with 1000 (500 to adapt the dense metric) R-hat
-  # was 1.01 or more for 2 of 6 seeds, with 2000 for none
+  # the default iterations, 1000 to adapt the dense metric and 2000 draws:
+  # with 500 + 500 R-hat was 1.01 or more for 2 of 6 seeds, with 1000 + 1000
+  # for none
   fit <- suppressMessages(calibrate(problem$field, problem$runs, chains = 2, seed = 11,
                                     cores = 2, progress = FALSE))
   expect_equal(fit$settings$emulator, "basis")
+  expect_equal(fit$settings[c("iter", "warmup")], list(iter = 3000L, warmup = 1000L))
   expect_equal(fit$settings$control, list(adapt_delta = 0.95, metric = "dense_e"))
   expect_equal(dimnames(as.array(fit$stanfit, pars = "tf_u"))[[3]], sprintf("tf_u[%d]", 1:3))
   pc <- length(fit$emulator$basis$components)

@@ -279,16 +279,29 @@ test_that("summaries have the parameters as row names and print without scientif
 
 # bench/RESULTS.md: longer, more careful chains helped joint fits of 12
 # and 36 months and the modular stage 2 at 36 months; above 36 field rows
-# the modular stage 2 needs 2000 iterations, at 0.95 with the basis emulator
+# the modular stage 2 needs 2000 iterations, and with the basis emulator
+# 2000 draws after 1000 warm-up iterations, at 0.95 with a dense metric
 test_that("default sampling depends on the kind of fit and the data size", {
-  careful <- list(iter = 4000L, control = list(adapt_delta = 0.99))
+  careful <- list(iter = 4000L, warmup = 2000L, control = list(adapt_delta = 0.99))
   expect_equal(bayesbem:::default_sampling(FALSE, 12), careful)
   expect_equal(bayesbem:::default_sampling(FALSE, 120), careful)
   expect_equal(bayesbem:::default_sampling(TRUE, 36), careful)
-  expect_equal(bayesbem:::default_sampling(TRUE, 37), list(iter = 2000L, control = list(adapt_delta = 0.9)))
+  expect_equal(bayesbem:::default_sampling(TRUE, 37),
+               list(iter = 2000L, warmup = 1000L, control = list(adapt_delta = 0.9)))
   expect_equal(bayesbem:::default_sampling(TRUE, 37, "basis"),
-               list(iter = 2000L, control = list(adapt_delta = 0.95, metric = "dense_e")))
+               list(iter = 3000L, warmup = 1000L,
+                    control = list(adapt_delta = 0.95, metric = "dense_e")))
   expect_equal(bayesbem:::default_sampling(TRUE, 36, "basis"), careful)
+})
+
+test_that("a caller's iter has half of it as warm-up, the defaults their own", {
+  lengths <- bayesbem:::sampling_lengths
+  basis <- bayesbem:::default_sampling(TRUE, 37, "basis")
+  expect_equal(lengths(NULL, NULL, basis), list(iter = 3000L, warmup = 1000L))
+  expect_equal(lengths(500, NULL, basis), list(iter = 500, warmup = 250))
+  expect_equal(lengths(NULL, 200, basis), list(iter = 3000L, warmup = 200))
+  expect_equal(lengths(1001, NULL, basis), list(iter = 1001, warmup = 500))
+  expect_error(lengths(NULL, 3000, basis), class = "bayesbem_error_argument")
 })
 
 test_that("three years of bills with 30 runs converge with the defaults (a seeded problem)", {
