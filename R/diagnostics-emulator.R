@@ -197,46 +197,30 @@ posterior_runs <- function(fit, simulator, ndraws, cache_dir, call = rlang::call
   check_koh_fit(fit, call = call)
   check_count(ndraws, call = call)
   rows <- simulator_rows(fit, simulator, call)
-  data <- fit$data
   draws <- draw_parameters(fit, ndraws)
-  tf <- unscale_t(do.call(rbind, lapply(draws, `[[`, "tf")), data$scaling)
-  range <- simulator$parameters[match(data$names$t, simulator$parameters$parameter), ]
-  design <- as.data.frame(tf)
-  names(design) <- data$names$t
-  # unscaling can pass a bound by rounding
-  design[] <- lapply(seq_along(design), function(k) {
-    pmin(pmax(design[[k]], range$min[k]), range$max[k])
-  })
-  out <- simulate_design(simulator, design, cache_dir = cache_dir)
-  eta <- matrix(NA_real_, length(draws), nrow(simulator$x))
-  ok <- setdiff(seq_along(draws), attr(out, "failed")$run)
-  if (length(ok) == 0L) {
-    abort_bayesbem("Every simulation run at the posterior draws failed.", "simulation", call = call)
-  }
-  eta[ok, ] <- matrix(out$eta, nrow = length(ok), byrow = TRUE)
+  design <- draw_design(fit, simulator, draws)
+  eta <- run_at_draws(simulator, design, cache_dir, call)
   list(draws = draws, index = attr(draws, "index"), eta = eta[, rows, drop = FALSE],
        design = design)
+}
+
+# Every run failed: say why, with the simulator's own messages (the
+# distinct ones, first few), not only that they failed.
+abort_all_failed <- function(failed, call) {
+  reasons <- utils::head(unique(failed$error), 3)
+  reasons <- gsub("}", "}}", gsub("{", "{{", reasons, fixed = TRUE), fixed = TRUE)
+  abort_bayesbem(c("Every simulation run at the posterior draws failed.",
+                   stats::setNames(reasons, rep("x", length(reasons))),
+                   i = "Run the simulator at one draw with {.fn simulate_design} to see the whole message."),
+                 "simulation", call = call)
 }
 
 # The simulator's periods that are the fit's field rows, matched by the
 # observable inputs' values; the calibration parameters must be the
 # simulator's.
 simulator_rows <- function(fit, simulator, call) {
-  if (!inherits(simulator, "bayesbem_simulator")) {
-    abort_bayesbem(c("{.arg simulator} must be a simulator, not {describe_value(simulator)}.",
-                     i = "Make one with {.fn simulator}, {.fn bem_simulator} or {.fn eplus_simulator}."),
-                   "argument", call = call)
-  }
+  check_fit_simulator(fit, simulator, call)
   data <- fit$data
-  unknown <- setdiff(data$names$t, simulator$parameters$parameter)
-  missing_x <- setdiff(data$names$x, names(simulator$x))
-  if (length(unknown) > 0L || length(missing_x) > 0L) {
-    abort_bayesbem(c("{.arg simulator} does not match the fit.",
-                     x = if (length(unknown) > 0L) "It has no parameter{?s} {.field {unknown}}.",
-                     x = if (length(missing_x) > 0L) "It has no observable input{?s} {.field {missing_x}}.",
-                     i = "Use the simulator whose runs the fit was calibrated on."),
-                   "simulator", call = call)
-  }
   field <- field_inputs(data)[data$names$x]
   rows <- match(value_keys(field), value_keys(simulator$x[data$names$x]))
   if (anyNA(rows) && nrow(simulator$x) == nrow(field)) {

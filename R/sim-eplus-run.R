@@ -71,9 +71,10 @@ print.bayesbem_eplus_run <- function(x, ...) {
 run_model <- function(model, weather, eplus, dir, timeout, call = rlang::caller_env()) {
   dir <- dir %||% tempfile("eplus-run-")
   dir.create(dir, showWarnings = FALSE, recursive = TRUE)
+  run <- leap_day_setup(model, plain_file(weather, dir), dir)
   input <- file.path(dir, "in.epJSON")
-  write_epjson(model$json, input)
-  args <- c("-w", plain_file(weather, dir), "-d", dir, input)
+  write_epjson(run$model$json, input)
+  args <- c("-w", run$weather, "-d", dir, input)
   result <- run_energyplus(eplus, args, dir, timeout)
   if (!result$ok) {
     abort_eplus_errors(result, "EnergyPlus ended with an error.",
@@ -148,6 +149,38 @@ plain_file <- function(path, dir) {
   to <- file.path(dir, basename(sub("\\.gz$", "", path)))
   writeLines(readLines(path, warn = FALSE), to)
   to
+}
+
+# EnergyPlus simulates 29 February only when the weather file's header
+# allows leap years (HOLIDAYS/DAYLIGHT SAVINGS, field 2) and the run period
+# lies in a leap year; measured-weather files often hold the day under a
+# header that says "No", and a run period without a year gets one from its
+# start weekday. So that every day the file holds is simulated, a file
+# whose records hold 29 February runs as a copy in `dir` whose header says
+# "Yes", and each RunPeriod without years gets the records' years (EnergyPlus
+# then takes the weekdays from the calendar, with a warning where the
+# model's start weekday differs).
+leap_day_setup <- function(model, weather, dir) {
+  lines <- readLines(weather, warn = FALSE)
+  records <- trimws(lines[-(1:8)])
+  records <- records[nzchar(records)]
+  if (!any(grepl("^[0-9]+\\s*,\\s*0?2\\s*,\\s*0?29\\s*,", records))) {
+    return(list(model = model, weather = weather))
+  }
+  header <- strsplit(lines[5], ",", fixed = TRUE)[[1]]
+  header[2] <- "Yes"
+  lines[5] <- paste(header, collapse = ",")
+  copy <- file.path(dir, paste0("leap-", basename(weather)))
+  writeLines(lines, copy)
+  years <- as.integer(sub(",.*", "", records[c(1, length(records))]))
+  if (!is.null(model$json$RunPeriod)) model$json$RunPeriod <- lapply(model$json$RunPeriod, function(period) {
+    if (is.null(period$begin_year)) {
+      period$begin_year <- years[1]
+      period$end_year <- years[2]
+    }
+    period
+  })
+  list(model = model, weather = copy)
 }
 
 # Every field of the model known to EnergyPlus: the model goes through

@@ -1,12 +1,19 @@
 test_that("cvrmse() and nmbe() follow ASHRAE Guideline 14", {
   obs <- c(100, 110, 120, 130)
   pred <- c(102, 107, 121, 134)
-  # by hand: errors 2, -3, 1, 4; n - 1 = 3; mean(obs) = 115
+  # by hand: obs - pred = -2, 3, -1, -4; n - 1 = 3; mean(obs) = 115
   expect_equal(cvrmse(obs, pred), 100 * sqrt((4 + 9 + 1 + 16) / 3) / 115)
-  expect_equal(nmbe(obs, pred), 100 * 4 / (3 * 115))
+  expect_equal(nmbe(obs, pred), 100 * -4 / (3 * 115))
+  # n - p degrees of freedom
+  expect_equal(cvrmse(obs, pred, p = 2), 100 * sqrt(30 / 2) / 115)
+  expect_equal(nmbe(obs, pred, p = 0), 100 * -4 / (4 * 115))
+  # the Guideline's sign: a model that predicts too much has a negative NMBE
+  expect_lt(nmbe(obs, obs * 1.1), 0)
   expect_equal(cvrmse(obs, obs), 0)
   expect_error(cvrmse(obs, pred[1:3]), class = "bayesbem_error_argument")
+  expect_error(nmbe(obs, pred, p = 4), class = "bayesbem_error_argument")
   expect_snapshot(nmbe(1, 1), error = TRUE)
+  expect_snapshot(cvrmse(obs, pred, p = "1"), error = TRUE)
 })
 
 test_that("calibration_metrics() gives training and held-out metrics with a verdict", {
@@ -15,16 +22,28 @@ test_that("calibration_metrics() gives training and held-out metrics with a verd
   withr::local_seed(4)
   held <- seb_field[c(2, 7), ]
   m <- calibration_metrics(fit, newdata = held[2:4], obs = held$y * 1.3, ndraws = 200)
-  expect_equal(m$set, c("training", "held-out"))
-  expect_equal(m$n, c(12, 2))
-  expect_lt(m$cvrmse[1], 15)
-  expect_lt(abs(m$nmbe[1]), 5)
-  expect_true(m$calibrated[1])
+  expect_equal(m$set, rep(c("training", "held-out"), each = 2))
+  expect_equal(m$prediction, rep(c("simulator", "calibrated"), 2))
+  expect_equal(m$route, rep("emulator", 4))
+  expect_equal(m$n, c(12, 12, 2, 2))
+  cal <- m[m$prediction == "calibrated", ]
+  expect_lt(cal$cvrmse[1], 15)
+  expect_lt(abs(cal$nmbe[1]), 5)
+  expect_true(cal$calibrated[1])
   # outputs 30 % above the model's predictions fail the monthly limits
-  expect_lt(m$nmbe[2], -5)
-  expect_false(m$calibrated[2])
+  expect_gt(cal$nmbe[2], 5)
+  expect_false(cal$calibrated[2])
+  # the simulator part alone, by hand from the same draws
+  withr::local_seed(4)
+  draws <- predict_draws(fit, seb_field[c("temp", "rh", "solar")], ndraws = 200)
+  withr::local_seed(4)
+  again <- calibration_metrics(fit, ndraws = 200)
+  expect_equal(again$cvrmse[1], cvrmse(seb_field$y, colMeans(draws$eta)))
+  expect_equal(again$nmbe[2], nmbe(seb_field$y, colMeans(draws$y)))
   hourly <- calibration_metrics(fit, frequency = "hourly", ndraws = 50)
-  expect_true(hourly$calibrated)
+  expect_true(hourly$calibrated[2])
+  daily <- calibration_metrics(fit, frequency = "daily", ndraws = 50)
+  expect_equal(daily$calibrated, hourly$calibrated)
   expect_snapshot(calibration_metrics(fit, newdata = held[2:4]), error = TRUE)
 })
 
@@ -32,5 +51,20 @@ test_that("calibration metrics print with 2 decimals", {
   m <- calibration_metrics(seb_fit, ndraws = 50)
   expect_s3_class(m, "koh_metrics")
   out <- capture.output(print(m))
-  expect_match(out[2], sprintf("training 12 +%.2f +%.2f +TRUE", m$cvrmse, m$nmbe))
+  expect_match(out[3], sprintf("training +calibrated +emulator 12 +%.2f +%.2f +TRUE",
+                               m$cvrmse[2], m$nmbe[2]))
+})
+
+test_that("held-out periods predicted through a simulator are labelled so", {
+  sim <- linear_seb_simulator()
+  withr::local_seed(6)
+  m <- calibration_metrics(seb_fit, newdata = sim, obs = seb_field$y * 1.02, ndraws = 10)
+  expect_equal(m$route, c("emulator", "emulator", "simulator", "simulator"))
+  withr::local_seed(6)
+  tr <- calibration_metrics(seb_fit, simulator = sim, ndraws = 10)
+  expect_equal(tr$route, c("simulator", "simulator"))
+  p <- withr::with_seed(6, predict_scenario(seb_fit, sim, ndraws = 10, noise = FALSE))
+  expect_equal(tr$cvrmse[1], cvrmse(seb_field$y, colMeans(p$simulated)))
+  expect_error(calibration_metrics(seb_fit, newdata = sim, obs = 1:3),
+               class = "bayesbem_error_argument")
 })

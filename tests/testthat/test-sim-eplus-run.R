@@ -56,3 +56,37 @@ test_that("a model with HVACTemplate objects is expanded by ExpandObjects and ru
   expect_true(all(temp$value > 19.9 & temp$value < 24.1))
   expect_error(eplus_add(model, "HVACTemplate:Thermostat", "T"), class = "bayesbem_error_eplus_model")
 })
+
+test_that("a weather file holding 29 February runs as a leap year, its model untouched", {
+  dir <- withr::local_tempdir()
+  template <- shipped_epw(2013)
+  records <- c("2012,2,28,1,60,fields", "2012,2,29,1,60,fields", "2012,3,1,1,60,fields")
+  leap <- write_epw(template, records)
+  model <- list(json = list(RunPeriod = list(
+    `Run Period 1` = list(begin_month = 1, begin_day_of_month = 1),
+    `Run Period 2` = list(begin_month = 1, begin_year = 2011))))
+  out <- leap_day_setup(model, leap, dir)
+  expect_match(readLines(out$weather, n = 5)[5], "^HOLIDAYS/DAYLIGHT SAVINGS,Yes,")
+  expect_equal(readLines(out$weather)[-5], readLines(leap)[-5])
+  expect_equal(out$model$json$RunPeriod$`Run Period 1`$begin_year, 2012)
+  expect_equal(out$model$json$RunPeriod$`Run Period 1`$end_year, 2012)
+  # a run period with a year of its own is the modeller's choice
+  expect_equal(out$model$json$RunPeriod$`Run Period 2`, model$json$RunPeriod$`Run Period 2`)
+  # a file without the day is used as it is
+  plain <- write_epw(template, records[-2])
+  expect_identical(leap_day_setup(model, plain, dir), list(model = model, weather = plain))
+})
+
+test_that("measured weather of a leap year is simulated on every day it holds", {
+  skip_if_no_eplus()
+  epw <- shipped_epw(2012)  # 8784 hours under a header that says there is no leap day
+  expect_match(readLines(epw, n = 5)[5], "^HOLIDAYS/DAYLIGHT SAVINGS,No,")
+  run <- eplus_run(with_daily_output(seb_model(), "Electricity:Facility"), epw)
+  daily <- eplus_output(run, "Electricity:Facility")
+  expect_equal(nrow(daily), 366)
+  expect_equal(sum(daily$month == 2), 29)
+  sim <- eplus_simulator(weather = epw)
+  runs <- simulate_design(sim, data.frame(equipment_power_density = 15))
+  expect_equal(nrow(runs), 12)
+  expect_length(attr(runs, "failed")$run, 0)
+})

@@ -1,0 +1,55 @@
+#' Savings per period, with their uncertainty
+#'
+#' Box plots (box: quartiles; whiskers: 5 % and 95 % quantiles) of the
+#' paired posterior draws of a retrofit's savings in each period
+#' ([savings()]), with the total and its 90 % interval in the subtitle.
+#'
+#' @param x A `koh_savings`.
+#' @param ... Unused.
+#' @return `plot_savings()`: a ggplot. `plot_savings_data()`: a data frame
+#'   with one row per period: `period`, the box statistics `q5`, `q25`,
+#'   `q50`, `q75`, `q95`, and `mean`; its attribute `total` holds the
+#'   total's `mean`, `q5` and `q95`.
+#' @family plots
+#' @family prediction
+#' @export
+#' @examples
+#' \donttest{
+#' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+#' s <- savings(seb_fit, sim, scenario(sim, scale = c(equipment_power_density = 0.7)),
+#'              ndraws = 10)
+#' plot_savings(s)
+#' }
+plot_savings <- function(x, ...) {
+  rlang::check_dots_empty()
+  d <- plot_savings_data(x)
+  total <- attr(d, "total")
+  ggplot2::ggplot(d, ggplot2::aes(x = .data$period, group = .data$period)) +
+    ggplot2::geom_hline(yintercept = 0, colour = "grey50") +
+    geom_quantile_box(ggplot2::aes(), width = 0.6, fill = "#d5ecd4", colour = "#2e7d32") +
+    ggplot2::geom_point(ggplot2::aes(y = .data$mean), colour = "#2e7d32", shape = 4) +
+    ggplot2::labs(x = "period", y = "savings (baseline - retrofit)",
+                  title = x$scenarios$retrofit$name,
+                  subtitle = sprintf("total %s (90 %% interval %s to %s); discrepancy: %s",
+                                     signif(total$mean, 3), signif(total$q5, 3),
+                                     signif(total$q95, 3), x$discrepancy),
+                  caption = "boxes: quartiles, whiskers: 5 % and 95 % of paired posterior draws; crosses: means") +
+    ggplot2::theme_bw()
+}
+
+#' @rdname plot_savings
+#' @export
+plot_savings_data <- function(x, ...) {
+  rlang::check_dots_empty()
+  if (!inherits(x, "koh_savings")) {
+    abort_bayesbem("{.arg x} must be savings from {.fn savings}, not {describe_value(x)}.",
+                   "argument")
+  }
+  n <- ncol(x$savings)
+  total <- rowSums(x$savings)
+  structure(data.frame(period = factor(seq_len(n)), box_stats(x$savings),
+                       mean = colMeans(x$savings)),
+            total = data.frame(mean = mean(total),
+                               q5 = stats::quantile(total, 0.05, names = FALSE),
+                               q95 = stats::quantile(total, 0.95, names = FALSE)))
+}

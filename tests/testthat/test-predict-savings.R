@@ -1,0 +1,83 @@
+test_that("paired savings equal the simulator's by hand at the same posterior draws", {
+  sim <- linear_seb_simulator()
+  retrofit <- scenario(sim, scale = c(equipment_power_density = 0.8), name = "efficient")
+  s <- savings(seb_fit, sim, retrofit, ndraws = 12, discrepancy = "none")
+  d <- used_draws(seb_fit, s$draw)
+  # the linear simulator saves 40 * 0.2 * epd in every period
+  expect_equal(unname(s$savings), matrix(8 * d$equipment_power_density, 12, 12),
+               tolerance = 1e-6)
+  expect_equal(s$baseline - s$retrofit, s$savings)
+  sm <- summary(s)
+  expect_equal(sm$period, c(as.character(1:12), "total"))
+  expect_equal(sm$savings[13], 12 * 8 * mean(d$equipment_power_density), tolerance = 1e-6)
+  expect_equal(sm$percent[13], 100 * sm$savings[13] / sm$baseline[13])
+  expect_true(all(sm$lower <= sm$savings & sm$savings <= sm$upper))
+  out <- capture.output(print(s))
+  expect_match(out[1], "efficient against as calibrated")
+  expect_match(paste(out, collapse = "\n"), "total savings")
+})
+
+test_that("the discrepancy under the retrofit is the assumption chosen", {
+  sim <- linear_seb_simulator()
+  retrofit <- scenario(sim, scale = c(equipment_power_density = 0.8))
+  withr::local_seed(5)
+  same <- savings(seb_fit, sim, retrofit, ndraws = 8, discrepancy = "same")
+  withr::local_seed(5)
+  prop <- savings(seb_fit, sim, retrofit, ndraws = 8, discrepancy = "proportional")
+  none <- savings(seb_fit, sim, retrofit, ndraws = 8, discrepancy = "none")
+  # an unchanged discrepancy cancels from the savings
+  expect_equal(same$savings, none$savings, tolerance = 1e-8)
+  expect_false(isTRUE(all.equal(same$baseline, none$baseline)))
+  # a proportional one scales with the simulated use: same draws of delta
+  delta <- same$baseline - none$baseline
+  expect_equal(prop$retrofit, none$retrofit + delta * none$retrofit / none$baseline,
+               tolerance = 1e-8)
+})
+
+test_that("a scenario with no change saves exactly nothing", {
+  sim <- linear_seb_simulator()
+  for (d in c("same", "proportional", "none")) {
+    s <- savings(seb_fit, sim, scenario(sim), ndraws = 6, discrepancy = d)
+    expect_identical(max(abs(s$savings)), 0)
+  }
+})
+
+test_that("baseline and retrofit over other periods are refused", {
+  sim <- linear_seb_simulator()
+  other <- linear_seb_simulator(transform(seb_field[c("temp", "rh", "solar")], temp = temp + 1))
+  expect_snapshot(savings(seb_fit, sim, other, ndraws = 4), error = TRUE)
+  expect_error(savings(seb_fit, sim, linear_seb_simulator(seb_field[1:6, c("temp", "rh", "solar")])),
+               class = "bayesbem_error_scenario")
+  expect_error(savings(seb_fit, sim, sim, discrepancy = "sam"), class = "bayesbem_error_argument")
+})
+
+test_that("avoided energy is the adjusted baseline less the measured use", {
+  sim <- linear_seb_simulator()
+  withr::local_seed(8)
+  adjusted <- predict_scenario(seb_fit, sim, ndraws = 10)$y
+  measured <- 0.8 * seb_field$y
+  withr::local_seed(8)
+  a <- avoided_energy(seb_fit, sim, measured, ndraws = 10)
+  expect_equal(a$draws, adjusted)
+  tab <- a$table
+  expect_equal(tab$avoided[1:12], colMeans(adjusted) - measured)
+  expect_equal(tab$avoided[13], sum(tab$avoided[1:12]))
+  expect_equal(tab$measured[13], sum(measured))
+  expect_equal(a$fsu$fsu[1], (tab$upper[13] - tab$lower[13]) / 2 / tab$avoided[13])
+  expect_output(print(a), "fractional savings uncertainty")
+  expect_error(avoided_energy(seb_fit, sim, measured[1:5]), class = "bayesbem_error_argument")
+})
+
+test_that("Guideline 14's savings uncertainty follows its Annex B formula", {
+  # by hand from the fit's training residuals
+  obs <- seb_field$y
+  withr::local_seed(9)
+  pred <- colMeans(predict(seb_fit, summary = FALSE))
+  withr::local_seed(9)
+  fsu <- guideline14_fsu(seb_fit, m = 12, fraction = 0.2, level = 0.9)
+  res <- obs - pred
+  cv <- sqrt(sum(res^2) / 11) / mean(obs)
+  rho <- sum(res[-1] * res[-12]) / sum(res^2)
+  n_eff <- if (rho > 0) 12 * (1 - rho) / (1 + rho) else 12
+  expect_equal(fsu, qt(0.95, 11) * 1.26 * cv * sqrt(12 / n_eff * (1 + 2 / n_eff) / 12) / 0.2)
+})
