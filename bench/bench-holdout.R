@@ -16,7 +16,7 @@
 # Scores are also given without January 2012, whose bill (1031 kWh) lies
 # far below every other month of both years.
 # Usage, from the package root, with bayesbem and EnergyPlus installed:
-#   Rscript bench/bench-holdout.R [shipped|eplus ...]
+#   BAYESBEM_EPLUS=<EnergyPlus folder> Rscript bench/bench-holdout.R [shipped|eplus ...]
 #   BENCH_DRAWS (posterior draws of the simulator route, default 40),
 #   BENCH_CACHE (run cache, default a temporary folder)
 suppressPackageStartupMessages(library(bayesbem))
