@@ -75,7 +75,7 @@ summary.koh_savings <- function(object, level = 0.9, ...) {
   saved <- with_total(object$savings)
   q <- column_quantiles(saved, c((1 - level) / 2, 1 - (1 - level) / 2))
   baseline <- colMeans(with_total(object$baseline))
-  data.frame(period = period_labels(ncol(object$savings)), baseline = baseline,
+  data.frame(period = total_labels(ncol(object$savings)), baseline = baseline,
              retrofit = colMeans(with_total(object$retrofit)), savings = colMeans(saved),
              sd = apply(saved, 2, stats::sd), lower = q[, 1], upper = q[, 2],
              percent = 100 * colMeans(saved) / baseline, row.names = NULL)
@@ -114,7 +114,7 @@ check_same_periods <- function(baseline, retrofit, call = rlang::caller_env()) {
 }
 
 # Row labels of per-period tables with their total.
-period_labels <- function(n) c(as.character(seq_len(n)), "total")
+total_labels <- function(n) c(as.character(seq_len(n)), "total")
 
 #' Avoided energy use: adjusted baseline less measured use (IPMVP Option D)
 #'
@@ -176,7 +176,7 @@ avoided_energy <- function(fit, reporting, measured, ndraws = 40, level = 0.9,
   probs <- c((1 - level) / 2, 1 - (1 - level) / 2)
   both <- cbind(avoided, rowSums(avoided))
   q <- column_quantiles(both, probs)
-  table <- data.frame(period = period_labels(m),
+  table <- data.frame(period = total_labels(m),
                       adjusted_baseline = colMeans(cbind(adjusted, rowSums(adjusted))),
                       measured = c(measured, sum(measured)), avoided = colMeans(both),
                       sd = apply(both, 2, stats::sd), lower = q[, 1], upper = q[, 2],
