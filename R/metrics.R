@@ -137,14 +137,12 @@ training_predictions <- function(fit, simulator, ndraws, call = rlang::caller_en
   if (is.null(simulator)) {
     return(emulator_predictions(fit, field_inputs(fit$data), obs, ndraws))
   }
-  rows <- simulator_rows(fit, simulator, call)
-  p <- predict_scenario(fit, simulator, ndraws = ndraws %||% 40, noise = FALSE)
-  list(obs = obs, simulator = colMeans(p$simulated)[rows], calibrated = colMeans(p$y)[rows],
-       route = "simulator")
+  simulator_predictions(fit, simulator, obs, ndraws, rows = simulator_rows(fit, simulator, call))
 }
 
 heldout_predictions <- function(fit, newdata, obs, ndraws, call = rlang::caller_env()) {
-  n <- if (is.data.frame(newdata)) nrow(newdata) else nrow(as_scenario(newdata)$simulator$x)
+  if (!is.data.frame(newdata)) newdata <- as_scenario(newdata, call = call)
+  n <- if (is.data.frame(newdata)) nrow(newdata) else nrow(newdata$simulator$x)
   if (!is.numeric(obs) || length(obs) != n) {
     abort_bayesbem(c("{.arg obs} must be numeric with one value per held-out period.",
                      x = "It has {length(obs)} value{?s} for {n} period{?s}."),
@@ -153,8 +151,15 @@ heldout_predictions <- function(fit, newdata, obs, ndraws, call = rlang::caller_
   if (is.data.frame(newdata)) {
     return(emulator_predictions(fit, newdata, obs, ndraws))
   }
-  p <- predict_scenario(fit, newdata, ndraws = ndraws %||% 40, noise = FALSE)
-  list(obs = obs, simulator = colMeans(p$simulated), calibrated = colMeans(p$y),
+  simulator_predictions(fit, newdata, obs, ndraws)
+}
+
+# The simulator route: the simulator rerun at `ndraws` posterior draws (40
+# by default), its periods `rows` matched to `obs`.
+simulator_predictions <- function(fit, simulator, obs, ndraws, rows = NULL) {
+  p <- predict_scenario(fit, simulator, ndraws = ndraws %||% 40, noise = FALSE)
+  rows <- rows %||% seq_along(obs)
+  list(obs = obs, simulator = colMeans(p$simulated)[rows], calibrated = colMeans(p$y)[rows],
        route = "simulator")
 }
 

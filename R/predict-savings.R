@@ -142,7 +142,9 @@ total_labels <- function(n) c(as.character(seq_len(n)), "total")
 #' @param reporting A [scenario()] (or simulator) of the reporting period:
 #'   its weather, the pre-retrofit model.
 #' @param measured Measured use in each reporting period (numeric, one per
-#'   period of `reporting`).
+#'   period of `reporting`; `NA` for a period without a measurement, e.g.
+#'   the months after the last bill: such periods are left out of the
+#'   table and the total).
 #' @param ndraws Number of posterior draws.
 #' @param level Level of the intervals.
 #' @param cache_dir Optional directory for cached runs.
@@ -165,18 +167,16 @@ avoided_energy <- function(fit, reporting, measured, ndraws = 40, level = 0.9,
   check_koh_fit(fit)
   reporting <- as_scenario(reporting)
   check_probability(level)
-  m <- nrow(reporting$simulator$x)
-  if (!is.numeric(measured) || length(measured) != m || any(!is.finite(measured))) {
-    abort_bayesbem(c("{.arg measured} must hold one finite number per reporting period ({m}).",
-                     x = "It is {describe_value(measured)} of length {length(measured)}."),
-                   "argument")
-  }
+  keep <- measured_periods(measured, nrow(reporting$simulator$x))
+  measured <- measured[keep]
+  m <- length(keep)
   adjusted <- predict_scenario(fit, reporting, ndraws = ndraws, cache_dir = cache_dir)$y
+  adjusted <- adjusted[, keep, drop = FALSE]
   avoided <- adjusted - rep(measured, each = nrow(adjusted))
   probs <- c((1 - level) / 2, 1 - (1 - level) / 2)
   both <- cbind(avoided, rowSums(avoided))
   q <- column_quantiles(both, probs)
-  table <- data.frame(period = total_labels(m),
+  table <- data.frame(period = c(as.character(keep), "total"),
                       adjusted_baseline = colMeans(cbind(adjusted, rowSums(adjusted))),
                       measured = c(measured, sum(measured)), avoided = colMeans(both),
                       sd = apply(both, 2, stats::sd), lower = q[, 1], upper = q[, 2],
@@ -190,6 +190,19 @@ avoided_energy <- function(fit, reporting, measured, ndraws = 40, level = 0.9,
   structure(list(table = table, fsu = fsu, draws = adjusted, level = level,
                  scenario = reporting),
             class = "koh_avoided_energy")
+}
+
+# The reporting periods with a measurement: `measured` has one value per
+# period of the reporting simulator, NA where there is none.
+measured_periods <- function(measured, n, call = rlang::caller_env()) {
+  if (!is.numeric(measured) || length(measured) != n || any(is.infinite(measured)) ||
+      all(is.na(measured))) {
+    abort_bayesbem(c("{.arg measured} must hold one number per reporting period ({n}).",
+                     x = "It is {describe_value(measured)} of length {length(measured)}.",
+                     i = "Give NA for a period without a measurement."),
+                   "argument", call = call)
+  }
+  which(!is.na(measured))
 }
 
 # Guideline 14's fractional savings uncertainty (Annex B):
@@ -212,7 +225,7 @@ print.koh_avoided_energy <- function(x, ...) {
   rlang::check_dots_empty()
   t <- x$table[nrow(x$table), ]
   cat_lines("{.cls koh_avoided_energy}: {x$scenario$simulator$name}",
-            "* avoided energy use {signif(t$avoided, 3)} ({round(100 * x$level)} % interval {signif(t$lower, 3)} to {signif(t$upper, 3)}) over {nrow(x$table) - 1} period{?s}",
+            "* avoided energy use {signif(t$avoided, 3)} ({round(100 * x$level)} % interval {signif(t$lower, 3)} to {signif(t$upper, 3)}) over {nrow(x$table) - 1} measured period{?s} of {nrow(x$scenario$simulator$x)}",
             "* fractional savings uncertainty: {round(100 * x$fsu$fsu[1], 1)} % (Guideline 14's formula: {round(100 * x$fsu$fsu[2], 1)} %)",
             "")
   print_rounded(x$table, 4)

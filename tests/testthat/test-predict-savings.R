@@ -66,6 +66,20 @@ test_that("avoided energy is the adjusted baseline less the measured use", {
   expect_equal(a$fsu$fsu[1], (tab$upper[13] - tab$lower[13]) / 2 / tab$avoided[13])
   expect_output(print(a), "fractional savings uncertainty")
   expect_error(avoided_energy(seb_fit, sim, measured[1:5]), class = "bayesbem_error_argument")
+  expect_error(avoided_energy(seb_fit, sim, rep(NA_real_, 12)), class = "bayesbem_error_argument")
+})
+
+test_that("avoided energy leaves out the periods without a measurement", {
+  sim <- linear_seb_simulator()
+  measured <- c(0.8 * seb_field$y[1:6], rep(NA, 6))
+  withr::local_seed(8)
+  all <- avoided_energy(seb_fit, sim, 0.8 * seb_field$y, ndraws = 10)
+  withr::local_seed(8)
+  half <- avoided_energy(seb_fit, sim, measured, ndraws = 10)
+  expect_equal(half$table$period, c(as.character(1:6), "total"))
+  expect_equal(half$draws, all$draws[, 1:6])
+  expect_equal(half$table$avoided[7], sum(all$table$avoided[1:6]))
+  expect_output(print(half), "over 6 measured periods of 12")
 })
 
 test_that("Guideline 14's savings uncertainty follows its Annex B formula", {
