@@ -93,12 +93,15 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #'   field inputs' columns; predicted through the emulator), or a
 #'   [scenario()] or simulator for them (predicted through the simulator,
 #'   see [predict_scenario()]); `NULL` for training data only.
-#' @param obs Measured outputs of the held-out periods.
+#' @param obs Measured outputs of the held-out periods (`NA` for a period
+#'   without a measurement, e.g. the months of a year-long simulator after
+#'   the last bill: left out).
 #' @param frequency `"monthly"`, `"daily"` or `"hourly"`: which limits apply.
 #' @param simulator Optional simulator of the training periods: the
 #'   training rows are then predicted through it.
 #' @param ndraws Number of posterior draws to use (all by default through
 #'   the emulator; 40 through a simulator).
+#' @param cache_dir Optional directory for cached simulator runs.
 #' @return A data frame (class `koh_metrics`, printed with 2 decimals) with
 #'   one row per data set (`set`: `training`, `held-out`) and `prediction`
 #'   (`simulator`, `calibrated`): `route` (`emulator` or `simulator`), `n`,
@@ -109,15 +112,17 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #' calibration_metrics(seb_fit, ndraws = 100)
 calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                                 frequency = c("monthly", "daily", "hourly"),
-                                simulator = NULL, ndraws = NULL) {
+                                simulator = NULL, ndraws = NULL, cache_dir = NULL) {
   frequency <- match_choice(frequency)
   limits <- switch(frequency, monthly = c(15, 5), daily = , hourly = c(30, 10))
   if (xor(is.null(newdata), is.null(obs))) {
     abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
                    "argument")
   }
-  sets <- list(training = training_predictions(fit, simulator, ndraws))
-  if (!is.null(newdata)) sets[["held-out"]] <- heldout_predictions(fit, newdata, obs, ndraws)
+  sets <- list(training = training_predictions(fit, simulator, ndraws, cache_dir))
+  if (!is.null(newdata)) {
+    sets[["held-out"]] <- heldout_predictions(fit, newdata, obs, ndraws, cache_dir)
+  }
   rows <- lapply(names(sets), function(set) {
     p <- sets[[set]]
     do.call(rbind, lapply(c("simulator", "calibrated"), function(what) {
@@ -132,33 +137,39 @@ calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
 
 # Posterior means of the simulator part and of the calibrated prediction at
 # the training rows, through the emulator or through `simulator`.
-training_predictions <- function(fit, simulator, ndraws, call = rlang::caller_env()) {
+training_predictions <- function(fit, simulator, ndraws, cache_dir,
+                                 call = rlang::caller_env()) {
   obs <- fit$data$field[[fit$data$names$y]]
   if (is.null(simulator)) {
     return(emulator_predictions(fit, field_inputs(fit$data), obs, ndraws))
   }
-  simulator_predictions(fit, simulator, obs, ndraws, rows = simulator_rows(fit, simulator, call))
+  simulator_predictions(fit, simulator, obs, ndraws, cache_dir,
+                        rows = simulator_rows(fit, simulator, call))
 }
 
-heldout_predictions <- function(fit, newdata, obs, ndraws, call = rlang::caller_env()) {
+# Held-out periods without a measurement (NA in `obs`) are left out.
+heldout_predictions <- function(fit, newdata, obs, ndraws, cache_dir,
+                                call = rlang::caller_env()) {
   if (!is.data.frame(newdata)) newdata <- as_scenario(newdata, call = call)
   n <- if (is.data.frame(newdata)) nrow(newdata) else nrow(newdata$simulator$x)
-  if (!is.numeric(obs) || length(obs) != n) {
+  if (!is.numeric(obs) || length(obs) != n || all(is.na(obs))) {
     abort_bayesbem(c("{.arg obs} must be numeric with one value per held-out period.",
-                     x = "It has {length(obs)} value{?s} for {n} period{?s}."),
+                     x = "It has {length(obs)} value{?s} for {n} period{?s}.",
+                     i = "Give NA for a period without a measurement."),
                    "argument", call = call)
   }
+  rows <- which(!is.na(obs))
   if (is.data.frame(newdata)) {
-    return(emulator_predictions(fit, newdata, obs, ndraws))
+    return(emulator_predictions(fit, newdata[rows, , drop = FALSE], obs[rows], ndraws))
   }
-  simulator_predictions(fit, newdata, obs, ndraws)
+  simulator_predictions(fit, newdata, obs[rows], ndraws, cache_dir, rows = rows)
 }
 
 # The simulator route: the simulator rerun at `ndraws` posterior draws (40
 # by default), its periods `rows` matched to `obs`.
-simulator_predictions <- function(fit, simulator, obs, ndraws, rows = NULL) {
-  p <- predict_scenario(fit, simulator, ndraws = ndraws %||% 40, noise = FALSE)
-  rows <- rows %||% seq_along(obs)
+simulator_predictions <- function(fit, simulator, obs, ndraws, cache_dir, rows) {
+  p <- predict_scenario(fit, simulator, ndraws = ndraws %||% 40, noise = FALSE,
+                        cache_dir = cache_dir)
   list(obs = obs, simulator = colMeans(p$simulated)[rows], calibrated = colMeans(p$y)[rows],
        route = "simulator")
 }

@@ -68,3 +68,30 @@ test_that("held-out periods predicted through a simulator are labelled so", {
   expect_error(calibration_metrics(seb_fit, newdata = sim, obs = 1:3),
                class = "bayesbem_error_argument")
 })
+
+test_that("held-out periods without a measurement are left out", {
+  sim <- linear_seb_simulator()
+  obs <- c(seb_field$y[1:6] * 1.02, rep(NA, 6))
+  withr::local_seed(6)
+  m <- calibration_metrics(seb_fit, newdata = sim, obs = obs, ndraws = 10)
+  # the same random numbers: the training rows' draws come first
+  withr::local_seed(6)
+  invisible(predict_draws(seb_fit, seb_field[c("temp", "rh", "solar")], ndraws = 10))
+  p <- predict_scenario(seb_fit, sim, ndraws = 10, noise = FALSE)
+  expect_equal(m$n[3:4], c(6, 6))
+  expect_equal(m$cvrmse[4], cvrmse(obs[1:6], colMeans(p$y)[1:6]))
+  expect_equal(m$nmbe[3], nmbe(obs[1:6], colMeans(p$simulated)[1:6]))
+  # the emulator route, on the rows with a measurement
+  extrapolates <- "bayesbem_warning_extrapolation"
+  withr::local_seed(7)
+  expect_warning(em <- calibration_metrics(seb_fit, newdata = seb_holdout,
+                                           obs = c(NA, seb_holdout$y[-1]), ndraws = 50),
+                 class = extrapolates)
+  withr::local_seed(7)
+  expect_warning(again <- calibration_metrics(seb_fit, newdata = seb_holdout[-1, ],
+                                              obs = seb_holdout$y[-1], ndraws = 50),
+                 class = extrapolates)
+  expect_equal(em, again)
+  expect_error(calibration_metrics(seb_fit, newdata = sim, obs = rep(NA_real_, 12)),
+               class = "bayesbem_error_argument")
+})
