@@ -1,4 +1,4 @@
-# Both vignettes render from the source tree (skipped where the tests run
+# The vignettes render from the source tree (skipped where the tests run
 # without it, e.g. in R CMD check, which builds the vignettes itself).
 vignette_source <- function(name) {
   path <- file.path("..", "..", "vignettes", paste0(name, ".Rmd"))
@@ -32,4 +32,10 @@ test_that("the calibration vignette renders with its figures and comparison tabl
 test_that("the discrepancy vignette renders and finds the hidden step", {
   skip_on_cran()
   expect_rendered("discrepancy", 1, c("best explained by after_change", "b predicts better"))
+})
+
+test_that("the savings vignette renders its held-out check, savings and avoided energy", {
+  skip_on_cran()
+  expect_rendered("savings", 1, c("paired posterior draws", "fractional savings uncertainty",
+                                  "held-out"))
 })
