@@ -20,29 +20,20 @@
 #'   and to 1000 in the default 3000 iterations of a basis fit.
 #' @param seed Random seed; by default one is drawn and stored in the result
 #'   so the fit can be repeated.
-#' @param cores Number of cores to run chains in parallel on.
-#' @param control Sampler control passed to [rstan::sampling()], a list.
-#'   By default `adapt_delta = 0.99`, and for a modular fit of more than
-#'   36 field rows 0.95 with the basis emulator and 0.9 with the separable
-#'   one (Stan's is 0.8): smaller steps, which the curved posteriors of GP
-#'   hyperparameters and the fan / equipment ridge of the case study need
-#'   to avoid divergences and to mix. Measured (`bench/RESULTS.md`): 4000
-#'   iterations at 0.99 made 8 of 10 joint fits of 12 months x 10 runs
-#'   converge against 3 with 2000 at 0.9, and 10 of 10 modular fits of 36
-#'   months x 30 runs against 8, at a cost of seconds to a minute on 2
-#'   cores; above 36 rows 2000 iterations suffice, and the basis emulator's
-#'   wider posterior along the ridge needs 0.95 (at 0.9 five of six fits of
-#'   365 days had divergent transitions). A basis fit also adapts a dense
-#'   metric (`metric = "dense_e"`): it samples the calibration parameters
-#'   on a scale on which the ridge a year of daily data leaves is straight
-#'   (see `emulator`), so one linear map fits it; at 365 days x 30 runs it
-#'   took 16-25 steps per iteration against 59-75 with the diagonal metric.
-#'   Along that ridge the chains mix slowly, so a basis fit draws 2000
-#'   iterations per chain after 1000 of warm-up: at 365 days x 30 runs 6
-#'   of 6 problems converged (R-hat at most 1.0064, bulk ESS at least
-#'   855; with 1000 draws 4 of 6, the other two at R-hat 1.0105 and
-#'   1.0115; with 1500 after 1500 of warm-up one of four missed), in
-#'   7-10 minutes on 2 cores (the diagonal metric: 12-20).
+#' @param cores Number of chains run at once, each in its own process. By
+#'   default `getOption("mc.cores")`, else every core of the machine (two
+#'   under `R CMD check`'s core limit); never more than `chains`.
+#' @param control Sampler control for [rstan::sampling()], a list whose
+#'   entries replace the defaults one by one (`list(max_treedepth = 12)`
+#'   keeps the default `adapt_delta`). The defaults: up to 36 field rows
+#'   `adapt_delta = 0.99`; above, 0.95 with a dense metric (`metric =
+#'   "dense_e"`) for the basis emulator and 0.9 for the separable one
+#'   (Stan's own is 0.8). Smaller steps are what the curved posteriors of
+#'   the emulator's length scales and the fan / equipment ridge of building
+#'   models need to avoid divergent transitions and to mix; the dense
+#'   metric fits the straight ridge the basis fit samples (see `emulator`).
+#'   Each default is the one that converged most often in the reliability
+#'   benchmark (`bench/RESULTS.md`, "Reliability").
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
 #'   paper's Appendix D; about twice as slow). Read them with
@@ -165,7 +156,7 @@
 #' }
 calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       iter = NULL, warmup = NULL, seed = NULL,
-                      cores = getOption("mc.cores", 1L),
+                      cores = getOption("mc.cores", default_cores()),
                       control = NULL, predict_at = NULL,
                       structure = c("auto", "grid", "dense"), covariates = NULL,
                       modular = "auto", emulator = c("auto", "separable", "basis"),
@@ -178,6 +169,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                      i = "Predict after the fit with {.fn predict}, giving the covariates in {.arg newdata}."),
                    "argument")
   }
+  check_control_misplaced(list(...))
   check_dots_in(list(...), sampling_arguments(), "rstan::sampling()")
   check_priors(priors)
   structure <- choose_structure(data, match_choice(structure), predict_at)
@@ -189,15 +181,11 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   lengths <- sampling_lengths(iter, warmup, defaults)
   iter <- lengths$iter
   warmup <- lengths$warmup
-  control <- control %||% defaults$control
   seed <- seed %||% sample.int(.Machine$integer.max, 1L)
   check_count(seed)
   check_bool(progress)
   lapack <- use_lapack()
-  if (!is.list(control)) {
-    abort_bayesbem("{.arg control} must be a list such as {.code list(adapt_delta = 0.95)}, not {describe_value(control)}.",
-                   "argument")
-  }
+  control <- merge_control(control, defaults$control)
   minor_modes <- match_choice(minor_modes)
   inform_blas(data$n, lapack, modular || structure == "grid")
   fit_env <- environment()
@@ -334,21 +322,10 @@ sampling_lengths <- function(iter, warmup, defaults, call = rlang::caller_env())
   list(iter = iter, warmup = warmup)
 }
 
-# The iterations and sampler control of a fit whose caller gives none,
-# chosen by measurement (bench/RESULTS.md, reliability): up to 36 field rows
-# 4000 iterations at adapt_delta 0.99, which a joint fit's emulator length
-# scales need (12 months x 10 runs: 8 of 10 converged against 3 of 10 with
-# 2000 at 0.9) and which the modular stage 2 needs along the fan / equipment
-# ridge at 36 months x 30 runs (10 of 10 against 8 of 10), at a cost of
-# seconds to a minute there; above 36 rows 2000 iterations at 0.9 with
-# the separable emulator; with the basis emulator 0.95 (its wider, honest
-# posterior along that ridge had divergent transitions at 0.9 in five of
-# six fits at 365 days) with a dense metric, which the ridge, straight on
-# the scale koh_basis.stan samples tf on, lets NUTS take in 16-25 steps
-# per iteration instead of 59-75 (inst/notes/design.md, "Stage-2
-# geometry"), and 2000 draws after 1000 warm-up iterations, since the
-# chains mix slowly along the ridge (365 days: 1000 draws left R-hat
-# 1.0105-1.0115 in 2 of 6 problems, 2000 at most 1.0064 in all six).
+# The iterations and sampler control of a fit whose caller gives none: for
+# each size and emulator, what converged most often in the reliability
+# benchmark (bench/RESULTS.md, "Reliability"; why in inst/notes/design.md,
+# "Sampling" and "Stage-2 geometry").
 default_sampling <- function(modular, n, emulator = "separable") {
   if (modular && n > 36L && emulator == "basis") {
     return(list(iter = 3000L, warmup = 1000L,
@@ -398,6 +375,52 @@ choose_emulator <- function(emulator, modular, data, call = rlang::caller_env())
 
 # The rstan::sampling() arguments calibrate() passes on through `...` (it sets
 # the others itself).
+# Sampler control: the user's entries over the defaults, each one known to
+# rstan (an unknown one would be ignored without a word).
+merge_control <- function(control, defaults, call = rlang::caller_env()) {
+  if (is.null(control)) {
+    return(defaults)
+  }
+  if (!is.list(control) || (length(control) > 0L && !rlang::is_named(control))) {
+    abort_bayesbem("{.arg control} must be a named list such as {.code list(adapt_delta = 0.95)}, not {describe_value(control)}.",
+                   "argument", call = call)
+  }
+  unknown <- setdiff(names(control), control_arguments())
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("{.arg control} has {cli::qty(length(unknown))}entr{?y/ies} {.field {unknown}} that {.fn rstan::sampling} does not know.",
+                     i = "Its entries are {.field {control_arguments()}}; check the spelling."),
+                   "argument", call = call)
+  }
+  utils::modifyList(defaults, control)
+}
+
+control_arguments <- function() {
+  c("adapt_engaged", "adapt_gamma", "adapt_delta", "adapt_kappa", "adapt_t0",
+    "adapt_init_buffer", "adapt_term_buffer", "adapt_window", "max_treedepth", "metric",
+    "stepsize", "stepsize_jitter")
+}
+
+# `calibrate(adapt_delta = 0.99)`: say where such an entry goes.
+check_control_misplaced <- function(dots, call = rlang::caller_env()) {
+  misplaced <- intersect(names(dots), control_arguments())
+  n <- length(misplaced)
+  if (n > 0L) {
+    example <- sprintf("control = list(%s = %s)", misplaced[1], format(dots[[misplaced[1]]]))
+    abort_bayesbem(c("{.arg {misplaced}} {cli::qty(n)}{?is a/are} sampler control entr{?y/ies}, not {?an argument/arguments} of {.fn calibrate}.",
+                     i = "Give {cli::qty(n)}{?it/them} in {.arg control}: {.code {example}}."),
+                   "argument", call = call)
+  }
+}
+
+# Chains run at once by default: every core, or two under R CMD check's
+# limit (_R_CHECK_LIMIT_CORES_), as CRAN asks of examples and tests.
+default_cores <- function() {
+  n <- parallel::detectCores()
+  if (is.na(n) || n < 1L) n <- 1L
+  if (nzchar(Sys.getenv("_R_CHECK_LIMIT_CORES_"))) n <- min(n, 2L)
+  as.integer(n)
+}
+
 sampling_arguments <- function() {
   c("init", "init_r", "refresh", "thin", "save_warmup", "sample_file", "diagnostic_file",
     "verbose", "check_data", "show_messages", "enable_random_init")

@@ -239,6 +239,38 @@ test_that("calibrate() rejects bad arguments with classed errors", {
   expect_snapshot(calibrate(seb_field, seb_sim, control = 0.95), error = TRUE)
 })
 
+test_that("control entries replace the defaults one by one", {
+  merge <- bayesbem:::merge_control
+  basis <- list(adapt_delta = 0.95, metric = "dense_e")
+  expect_equal(merge(NULL, basis), basis)
+  expect_equal(merge(list(max_treedepth = 12), basis),
+               list(adapt_delta = 0.95, metric = "dense_e", max_treedepth = 12))
+  expect_equal(merge(list(adapt_delta = 0.8), basis), list(adapt_delta = 0.8, metric = "dense_e"))
+  expect_error(merge(list(adapt_dleta = 0.9), basis), class = "bayesbem_error_argument")
+  expect_error(merge(list(0.9), basis), class = "bayesbem_error_argument")
+  # what the fit records is the merged list
+  withr::local_options(bayesbem.progress = FALSE)
+  fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 1, iter = 40, seed = 1,
+                                    control = list(max_treedepth = 5), refresh = 0),
+                          classes = "bayesbem_warning_convergence")
+  expect_equal(fit$settings$control, list(adapt_delta = 0.99, max_treedepth = 5))
+  expect_equal(rstan::get_sampler_params(fit$stanfit, inc_warmup = FALSE)[[1]][, "treedepth__"] <= 5,
+               rep(TRUE, 20))
+})
+
+test_that("sampler control given as an argument points to `control`", {
+  withr::local_options(cli.num_colors = 1)
+  expect_snapshot(calibrate(seb_field, seb_sim, adapt_delta = 0.99), error = TRUE)
+  expect_snapshot(calibrate(seb_field, seb_sim, control = list(adapt_dleta = 0.9)), error = TRUE)
+})
+
+test_that("chains run on every core by default, two under R CMD check's limit", {
+  withr::local_envvar(`_R_CHECK_LIMIT_CORES_` = "")
+  expect_equal(bayesbem:::default_cores(), parallel::detectCores())
+  withr::local_envvar(`_R_CHECK_LIMIT_CORES_` = "TRUE")
+  expect_equal(bayesbem:::default_cores(), min(parallel::detectCores(), 2L))
+})
+
 test_that("wrong argument types say what they are", {
   withr::local_options(cli.num_colors = 1)
   expect_snapshot(calibrate(seb_field, seb_sim, iter = "500"), error = TRUE)
