@@ -186,7 +186,8 @@ scale_newdata <- function(data, newdata, arg = "newdata", call = rlang::caller_e
   outside <- x_names[colSums(sweep(x, 2, s$x_min, "<") | sweep(x, 2, s$x_max, ">")) > 0]
   if (length(outside) > 0L) {
     warn_bayesbem(c("{.arg {arg}} is outside the range the model was calibrated on in {.field {outside}}.",
-                    i = "These predictions extrapolate the Gaussian processes; expect them to revert to the mean."),
+                    i = "These predictions extrapolate the Gaussian processes; expect them to revert to the mean.",
+                    i = "For another period's weather, rerun the simulator there instead: {.fn predict_scenario}."),
                   "extrapolation")
   }
   scale_x(x, s)

@@ -9,7 +9,8 @@
 # field period. Each problem is fitted with
 # calibrate(field, runs, seed = ...) and nothing else, plus the arguments in
 # BENCH_CALIBRATE (an R expression giving a list, e.g.
-# 'list(emulator_mean = "zero")' for the paper's model).
+# 'list(emulator_mean = "zero")' for the paper's model), and on the parameter
+# scales in BENCH_SCALES (koh_data()'s `scales`, "auto" by default).
 # Reported per size: share converged (max R-hat < 1.01 over every
 # parameter, no divergent transition, bulk and tail ESS >= 400), coverage of
 # the truth by the 90 % intervals of each calibration parameter, the share
@@ -34,7 +35,7 @@
 # (so that runs over several sessions can be pooled); with BENCH_SAVE=<dir>
 # each fit is saved there as fit-<n>-<mt>-<problem>.rds.
 # Usage, from the package root, with bayesbem installed:
-#   [BENCH_CALIBRATE='list(...)'] [BENCH_REFINE=r] [BENCH_CSV=file] [BENCH_SAVE=dir] \
+#   [BENCH_CALIBRATE='list(...)'] [BENCH_SCALES=identity] [BENCH_REFINE=r] [BENCH_CSV=file] [BENCH_SAVE=dir] \
 #   Rscript bench/bench-reliability.R \
 #     [sizes as n:mt:problems, comma-separated; default 12:10:10,12:30:10,36:30:10,120:30:3,365:30:3]
 # `problems` is a count (problems 1 to k) or a range k1-k2 (e.g. 365:30:2-3).
@@ -48,11 +49,13 @@ sizes <- do.call(rbind, lapply(strsplit(strsplit(spec, ",")[[1]], ":"), function
              last = k[length(k)])
 }))
 extra <- eval(parse(text = Sys.getenv("BENCH_CALIBRATE", "list()")))
+scales <- Sys.getenv("BENCH_SCALES", "auto")
 
 refine <- as.integer(Sys.getenv("BENCH_REFINE", "0"))
 
 fit_problem <- function(problem, runs, k) {
-  suppressWarnings(do.call(calibrate, c(list(problem$field, runs, seed = 4000 + k), extra)),
+  data <- koh_data(problem$field, runs, scales = scales)
+  suppressWarnings(do.call(calibrate, c(list(data, seed = 4000 + k), extra)),
                    classes = "bayesbem_warning_convergence")
 }
 
@@ -136,9 +139,9 @@ evaluate <- function(fit, problem, n, mt, k, wall) {
              parameters = length(covered), wall_s = wall)
 }
 
-cat(sprintf("machine: %s, %d cores; R %s; date %s\ncalibrate() extra arguments: %s\n\n",
+cat(sprintf("machine: %s, %d cores; R %s; date %s\ncalibrate() extra arguments: %s; scales: %s\n\n",
             Sys.info()[["nodename"]], parallel::detectCores(), getRversion(), Sys.Date(),
-            Sys.getenv("BENCH_CALIBRATE", "none")))
+            Sys.getenv("BENCH_CALIBRATE", "none"), scales))
 rows <- list()
 for (i in seq_len(nrow(sizes))) {
   s <- sizes[i, ]
