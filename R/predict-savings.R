@@ -126,7 +126,7 @@ total_labels <- function(n) c(as.character(seq_len(n)), "total")
 #' by draw.
 #'
 #' The fractional savings uncertainty (FSU) is the half-width of the
-#' interval of the total over the total. Beside it, ASHRAE Guideline 14's
+#' interval of the total over the total's size. Beside it, ASHRAE Guideline 14's
 #' formula (Annex B; Reddy and Claridge 2000) for the same level:
 #' `FSU = t * 1.26 * CV * sqrt((n / n') * (1 + 2 / n') / m) / F`, with `CV`
 #' the calibrated model's CV(RMSE) on its `n` training periods (as a
@@ -184,8 +184,8 @@ avoided_energy <- function(fit, reporting, measured, ndraws = 40, level = 0.9,
   total <- table[nrow(table), ]
   fsu <- data.frame(
     method = c("bayesbem (posterior draws)", "ASHRAE Guideline 14, Annex B"),
-    fsu = c((total$upper - total$lower) / 2 / total$avoided,
-            guideline14_fsu(fit, m, total$avoided / total$adjusted_baseline, level))
+    fsu = c((total$upper - total$lower) / 2 / abs(total$avoided),
+            guideline14_fsu(fit, m, abs(total$avoided) / total$adjusted_baseline, level))
   )
   structure(list(table = table, fsu = fsu, draws = adjusted, level = level,
                  scenario = reporting),

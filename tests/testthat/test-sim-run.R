@@ -57,6 +57,26 @@ test_that("runs go through future plans", {
   expect_equal(parallel, sequential)
 })
 
+test_that("runs go to a cluster through a future cluster plan, sharing the cache", {
+  skip_on_cran()
+  # the route to a cluster: a PSOCK cluster object here, the nodes of a
+  # scheduler (future.batchtools) or of other machines elsewhere
+  sim <- bem_simulator(shipped_epw(2013))
+  design <- design_lhs(bem_parameters()[12:13, ], n = 4, seed = 6)
+  sequential <- simulate_design(sim, design)
+  cl <- parallel::makePSOCKcluster(2)
+  on.exit(parallel::stopCluster(cl), add = TRUE)
+  old <- future::plan(future::cluster, workers = cl)
+  on.exit(future::plan(old), add = TRUE)
+  cache <- withr::local_tempdir()
+  remote <- simulate_design(sim, design, cache_dir = cache)
+  expect_equal(remote, sequential)
+  expect_length(list.files(cache), 4)
+  # the workers ran in other processes
+  pids <- future.apply::future_sapply(1:2, function(i) Sys.getpid())
+  expect_false(Sys.getpid() %in% pids)
+})
+
 test_that("the cache key covers everything that changes a simulator's output", {
   cache <- tempfile("cache")
   design <- data.frame(equipment_power_density = c(10, 20))
