@@ -43,6 +43,29 @@ grid_layout <- function(xf, xc, tc, tol = 0) {
        max_diff = max(c(0, gap[matched])))
 }
 
+# The grid layout within `tol`; by default within rounding and, failing
+# that, within 5 % of each input's range, said in a message (koh_data()'s
+# `grid_tol`).
+find_grid <- function(xf, xc, tc, tol, x_names) {
+  if (!is.null(tol)) {
+    check_number(tol, "argument", arg = "grid_tol")
+    return(grid_layout(xf, xc, tc, tol))
+  }
+  grid <- grid_layout(xf, xc, tc, 1e-6)
+  if (!is.null(grid)) {
+    return(grid)
+  }
+  grid <- grid_layout(xf, xc, tc, 0.05)
+  if (!is.null(grid)) {
+    gap <- apply(abs(xc - grid$x[grid$period, , drop = FALSE]), 2, max)
+    differ <- x_names[gap > 1e-6]
+    cli::cli_inform(c(i = "The runs' inputs match the field inputs within {signif(100 * grid$max_diff, 2)}% of their range, not exactly ({.field {differ}}): taken as the field's.",
+                      " " = "So the fit uses the grid likelihood. Give {.code grid_tol = 0} to keep them apart (the dense likelihood, far slower)."),
+                    class = "bayesbem_message_near_grid")
+  }
+  grid
+}
+
 # The scaled simulation outputs of a grid design as a matrix: run a at grid
 # input i in element (i, a).
 grid_runs <- function(data) {

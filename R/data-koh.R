@@ -59,9 +59,14 @@
 #'   which a simulation row's inputs count as a field row's. When every run
 #'   has one row at each field input within this tolerance, the design is a
 #'   grid: the simulation inputs are then taken to be the field inputs
-#'   exactly (tables written separately often differ in the last digits; the
-#'   shipped ones by about 1e-8), `print()` reports the largest difference,
-#'   and [calibrate()] can use the fast grid likelihood. Use `0` to require
+#'   exactly, `print()` reports the largest difference, and [calibrate()]
+#'   can use the fast grid likelihood. By default (`NULL`) rounding is
+#'   matched (`1e-6`: tables written separately differ in the last digits),
+#'   and failing that differences up to 5 % of each input's range, with a
+#'   message naming them: field weather computed apart from the runs'
+#'   (e.g. bills' months averaged from another copy of the weather file)
+#'   differs by that much, and without the match the fit would take the
+#'   dense likelihood, hours instead of seconds. Use `0` to require
 #'   identical values.
 #' @param scales `"auto"` (see Details), `"identity"` (every parameter as
 #'   it is, as in the paper), or a named character vector giving some
@@ -84,7 +89,7 @@
 #'          t = c("fan_total_efficiency", "equipment_power_density",
 #'                "infiltration_per_exterior_area"))
 koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, period = NULL,
-                     grid_tol = 1e-6, scales = "auto") {
+                     grid_tol = NULL, scales = "auto") {
   field <- as_numeric_table(field)
   sim <- as_numeric_table(sim)
   period <- period_column(field, period)
@@ -128,7 +133,7 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, perio
   xf <- scale_x(xf_raw, scaling)
   xc <- scale_x(xc_raw, scaling)
   tc <- scale_t(tc_raw, scaling)
-  grid <- grid_layout(xf, xc, tc, grid_tol)
+  grid <- find_grid(xf, xc, tc, grid_tol, cols$x)
   # on a grid, simulation inputs at field inputs are those (up to rounding)
   if (!is.null(grid)) xc <- grid$x[grid$period, , drop = FALSE]
   structure(
@@ -170,7 +175,8 @@ print.koh_data <- function(x, ...) {
             },
             if (!is.null(x$grid)) {
               "* grid design: {x$grid$mt} runs at {x$grid$n_x} inputs, the {x$n} field inputs among them (matched within {signif(x$grid$max_diff, 2)} of their range)"
-            })
+            },
+            "* {.fn calibrate} by default: {default_path(x)}")
   invisible(x)
 }
 

@@ -172,7 +172,9 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   check_control_misplaced(list(...))
   check_dots_in(list(...), sampling_arguments(), "rstan::sampling()")
   check_priors(priors)
-  structure <- choose_structure(data, match_choice(structure), predict_at)
+  asked <- match_choice(structure)
+  structure <- choose_structure(data, asked, predict_at)
+  inform_dense(data, structure, asked)
   modular <- choose_modular(modular, data, structure)
   emulator_type <- choose_emulator(match_choice(emulator), modular, data)
   defaults <- default_sampling(modular, data$n, emulator_type)
@@ -355,6 +357,34 @@ choose_modular <- function(modular, data, structure, call = rlang::caller_env())
   modular
 }
 
+# The path calibrate() takes on `data` by default, in words.
+default_path <- function(data) {
+  if (is.null(data$grid)) {
+    return(sprintf("the dense joint likelihood (the runs are not at every field input), %d x %d per gradient",
+                   data$n + data$m, data$n + data$m))
+  }
+  emulator <- choose_emulator("auto", TRUE, data)
+  sprintf("the grid likelihood in two stages, the %s emulator", emulator)
+}
+
+# Taking the dense likelihood because the runs are not a grid is slow
+# above a few hundred rows: say why, what it costs, how to avoid it. The
+# cost is bench/RESULTS.md's "Scaling" (dense, ms per gradient about
+# 1.2e-9 N^3 s) times the 60,000-80,000 gradients of a default fit.
+inform_dense <- function(data, structure, asked) {
+  if (structure != "dense" || asked == "dense") {
+    return(invisible())
+  }
+  rows <- data$n + data$m
+  hours <- 7e4 * 1.2e-9 * rows^3 / 3600
+  if (hours < 0.1) {
+    return(invisible())
+  }
+  cli::cli_inform(c("!" = "The runs are not at every field input, so {.fn calibrate} uses the dense likelihood: a {rows} x {rows} factor per gradient, about {signif(hours, 1)} hour{?s} of sampling per chain.",
+                    i = "Run every setting at the field inputs (a simulator of the field's periods in {.fn simulate_design}) for the grid likelihood, seconds to minutes; {.fn koh_data} matches inputs within 5% of their range."),
+                  class = "bayesbem_message_dense")
+}
+
 # emulator = "auto": the basis emulator for a modular fit of more than 36
 # field rows (see the @param); "basis" needs a modular fit. Returns
 # "separable", "basis", or "none" for a joint fit.
@@ -373,8 +403,6 @@ choose_emulator <- function(emulator, modular, data, call = rlang::caller_env())
   emulator
 }
 
-# The rstan::sampling() arguments calibrate() passes on through `...` (it sets
-# the others itself).
 # Sampler control: the user's entries over the defaults, each one known to
 # rstan (an unknown one would be ignored without a word).
 merge_control <- function(control, defaults, call = rlang::caller_env()) {
@@ -421,6 +449,8 @@ default_cores <- function() {
   as.integer(n)
 }
 
+# The rstan::sampling() arguments calibrate() passes on through `...` (it sets
+# the others itself).
 sampling_arguments <- function() {
   c("init", "init_r", "refresh", "thin", "save_warmup", "sample_file", "diagnostic_file",
     "verbose", "check_data", "show_messages", "enable_random_init")
