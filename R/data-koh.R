@@ -5,9 +5,13 @@
 #'
 #' The field table holds the measured output `y` and the `p` observable
 #' inputs `x`. The simulation table holds the simulator output `eta`, the
-#' same `p` inputs, and the `q` calibration parameters `t` of each run. By
-#' default `y` and `eta` are the first columns, `x` is every other field
-#' column, matched in `sim` by name, and `t` every other simulation column.
+#' same `p` inputs, and the `q` calibration parameters `t` of each run. The
+#' outputs are named: by default the columns called `y` and `eta` (as
+#' [simulate_field()] and [simulate_design()] write them; `eta` may also
+#' carry the field output's name), else give `y` and `eta` (the paper's
+#' files: `y = "yf", eta = "yc"`); a table without them is an error that
+#' lists its columns. `x` is every other field column, matched in `sim` by
+#' name, and `t` every other simulation column.
 #' An input in one table but not the other is an error, and so is a
 #' simulation column taken for a parameter that behaves like an input (one
 #' value per input setting). Only when no field input name is in `sim` (the
@@ -48,7 +52,8 @@
 #'
 #' @param field A data frame (or numeric matrix) of field data.
 #' @param sim A data frame (or numeric matrix) of simulation runs.
-#' @param y,eta Names of the output column in `field` and in `sim`.
+#' @param y,eta Names of the output column in `field` and in `sim`; by
+#'   default `"y"` and `"eta"` (or, in `sim`, the field output's name).
 #' @param x Names of the observable-input columns, present in both tables.
 #' @param t Names of the calibration-parameter columns in `sim`.
 #' @param period Name of a `field` column of class `Date` or `POSIXct` that
@@ -251,8 +256,8 @@ period_labels <- function(data, rows = data$field) {
 # simulation inputs taken by position. `x_sim` holds the simulation table's
 # names for the x columns.
 koh_columns <- function(field, sim, y, eta, x, t, call = rlang::caller_env()) {
-  y <- y %||% names(field)[1]
-  eta <- eta %||% names(sim)[1]
+  y <- y %||% output_column(field, "y", "field", setdiff(names(field), names(sim)), call)
+  eta <- eta %||% output_column(sim, c("eta", y), "sim", character(), call)
   named_x <- !is.null(x)
   x <- x %||% setdiff(names(field), y)
   check_has_columns(field, c(y, x), "field", call)
@@ -267,6 +272,22 @@ koh_columns <- function(field, sim, y, eta, x, t, call = rlang::caller_env()) {
   }
   if (!named_t) check_no_stray_inputs(sim, x_sim, t, call)
   list(y = y, eta = eta, x = x, x_sim = x_sim, t = t)
+}
+
+# The output column of a table by default: the first of `candidates` it
+# has. Taking the first column instead made a table written `temp, rh,
+# solar, kwh` calibrate temperature.
+output_column <- function(d, candidates, arg, likely, call) {
+  found <- intersect(candidates, names(d))
+  if (length(found) == 0L) {
+    name <- c(field = "y", sim = "eta")[[arg]]
+    example <- sprintf('%s = "%s"', name, if (length(likely) == 1L) likely else "<column>")
+    abort_bayesbem(c("{.arg {arg}} has no column {.field {candidates[1]}}, the output.",
+                     i = "Its columns are {.field {names(d)}}.",
+                     i = "Name its output column, e.g. {.code {example}}, or rename it."),
+                   "columns", call = call)
+  }
+  found[1]
 }
 
 # The paper's layout: the p simulation inputs follow eta.

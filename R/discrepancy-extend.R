@@ -58,7 +58,8 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
   if (!is.null(sim)) {
     # the parameters it shares with the fit keep their scales
     scales <- t_scales(data$scaling)
-    data <- koh_data(field_table(data), sim, scales = scales[intersect(names(scales), names(sim))])
+    data <- koh_data(field_table(data), sim, y = data$names$y,
+                     scales = scales[intersect(names(scales), names(sim))])
   } else {
     terms <- extension_covariates(data, with, covariates)
   }

@@ -36,12 +36,29 @@ test_that("columns can be given by name, in any order", {
   expect_equal(by_name$y, by_pos$y)
 })
 
-test_that("the paper's column layout works by position", {
+test_that("the paper's column layout works by position once the outputs are named", {
   field <- setNames(seb_field[1:4], c("yf", "xf1", "xf2", "xf3"))
   sim <- setNames(seb_sim, c("yc", "xc1", "xc2", "xc3", "tc1", "tc2", "tc3"))
-  d <- koh_data(field, sim)
+  expect_error(koh_data(field, sim), class = "bayesbem_error_columns")
+  d <- koh_data(field, sim, y = "yf", eta = "yc")
   expect_equal(d$names$t, c("tc1", "tc2", "tc3"))
   expect_equal(d$xc, koh_data(seb_field, seb_sim)$xc, ignore_attr = TRUE)
+})
+
+test_that("the outputs are found by name, never by position", {
+  withr::local_options(cli.num_colors = 1)
+  # a bill column last: not temperature taken for the output
+  kwh <- data.frame(seb_field[c("temp", "rh", "solar")], kwh = seb_field$y)
+  expect_snapshot(koh_data(kwh, seb_sim), error = TRUE)
+  expect_equal(koh_data(kwh, seb_sim, y = "kwh")$names$y, "kwh")
+  # the runs' output may carry the field output's name
+  runs <- seb_sim[c(2:7, 1)]
+  names(runs)[7] <- "kwh"
+  d <- koh_data(kwh, runs, y = "kwh")
+  expect_equal(d$names$eta, "kwh")
+  expect_equal(d$eta, koh_data(seb_field, seb_sim)$eta)
+  expect_snapshot(koh_data(seb_field, setNames(seb_sim, c("out", names(seb_sim)[-1]))),
+                  error = TRUE)
 })
 
 test_that("bad input gets classed errors that say what to fix", {
