@@ -65,12 +65,10 @@
 #'   n x n matrix. The price: the emulator's hyperparameters are not
 #'   integrated over (its uncertainty given them still is). Needs a grid
 #'   design. `"auto"` (the default) fits in two stages on a grid design
-#'   (and `predict_at` not given), jointly otherwise. Measured in the
-#'   reliability benchmark (`bench/RESULTS.md`): modular fits converged in
-#'   33 of 33 problems from 12 months x 10 runs to 120 days x 30 runs (the
-#'   joint fit: 6 of 10 at 12 months x 10 runs, not at 120 days), covered
-#'   the truth about as often (76 of 90 intervals at the monthly sizes
-#'   against 78), and took a tenth of the time at 36 months.
+#'   (and `predict_at` not given), jointly otherwise: in the reliability
+#'   benchmark the two-stage fit converged far more often, covered the
+#'   truth about as often and took a fraction of the time
+#'   (`bench/RESULTS.md`, "Reliability").
 #' @param emulator The emulator stage 2 of a modular fit calibrates with:
 #'   `"separable"`, the Gaussian process of the paper, whose correlation is
 #'   a product of one over the observable inputs and one over the
@@ -106,15 +104,13 @@
 #'   chains (in a modular fit, its stage-2 chains). Chains in modes of
 #'   similar mass are always kept, and [check_convergence()] reports that
 #'   they disagree. `fit$settings$dropped` and `fit$settings$restarted` list
-#'   the chains. Measured (`bench/RESULTS.md`): with 12 months, chains that
-#'   had split between modes (R-hat 1.53) all joined the one chain in the
-#'   main mode when restarted from it. In stage 2 of a modular fit, a
+#'   the chains. In stage 2 of a modular fit, a
 #'   minor mode that puts a calibration parameter outside the main mode's
 #'   90 % interval is kept instead (`fit$settings$kept_moved`), with a
 #'   message naming the parameters: with the emulator fixed, such modes can
 #'   be the emulator's error rather than the data's, and the emulator can
-#'   check out at the main mode while being wrong between the modes (a year
-#'   of daily data, `bench/RESULTS.md`: the truth lay between them). The fit
+#'   check out at the main mode while being wrong between the modes (the
+#'   truth can lie between them). The fit
 #'   then fails [check_convergence()], whose hint says to check the
 #'   emulator over both modes with [validate_emulator()] and add runs there
 #'   with [design_posterior()]. A joint fit drops such chains and its
@@ -134,10 +130,8 @@
 #'   n x n covariance of the field outputs. They are computed by Eigen, or
 #'   by R's LAPACK when R is linked to an optimised BLAS (OpenBLAS, MKL,
 #'   BLIS, ATLAS or Apple's Accelerate, told by the name of
-#'   `extSoftVersion()[["BLAS"]]`): at 365 days, 2.1 ms per stage-2
-#'   gradient on OpenBLAS against 4.3-5.1 ms with Eigen and 15-16 ms with
-#'   R's reference BLAS, and a fit of a year of daily data in 7-10 minutes
-#'   on 2 cores (`bench/RESULTS.md`). To speed up such fits, link R to
+#'   `extSoftVersion()[["BLAS"]]`), which at 365 days halves the time of a
+#'   fit (`bench/RESULTS.md`, "Gradient cost"). To speed up such fits, link R to
 #'   OpenBLAS, its serial build since the chains already share the cores
 #'   (on Debian or Ubuntu, `apt install libopenblas0-serial`).
 #'   A fit of more than 120 field rows on Eigen says so, once per session.
