@@ -1,10 +1,8 @@
 // normal_two_kernels_lpdf(), declared in inst/stan/include/koh_functions.stan
 // and defined here with its analytic gradient. It is the cost of every
-// gradient of the grid and modular programs at large n: Stan's reverse mode
-// through a 365 x 365 Cholesky factor takes ~46 ms, the whole stage-2
-// gradient with this 4.3-5.1 ms with Eigen (the VM's speed varies by day)
-// and 2.1 ms with R's LAPACK on OpenBLAS, about 1.5 ms of it the factor and
-// the inverse (bench/bench-gradient.R, bench/RESULTS.md).
+// gradient of the grid and modular programs at large n, where Stan's
+// reverse mode through an n x n Cholesky factor is several times slower
+// than this analytic gradient (bench/RESULTS.md, "Gradient cost").
 //
 // This file is included by stan_meta_header.hpp inside each model's
 // namespace, after the functions the Stan code defines and before the model
