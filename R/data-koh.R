@@ -127,6 +127,7 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, perio
     x_max = apply(rbind(xf_raw, xc_raw), 2, max)
   )
   check_varies(scaling$y_scale, cols$eta, "sim")
+  check_units(field[[cols$y]], eta_raw, cols)
   check_varies(scaling$x_max - scaling$x_min, cols$x, "field and sim together")
   check_varies(apply(tc_raw, 2, max) - apply(tc_raw, 2, min), cols$t, "sim")
   check_distinct_runs(cbind(xc_raw, tc_raw))
@@ -272,6 +273,23 @@ koh_columns <- function(field, sim, y, eta, x, t, call = rlang::caller_env()) {
   }
   if (!named_t) check_no_stray_inputs(sim, x_sim, t, call)
   list(y = y, eta = eta, x = x, x_sim = x_sim, t = t)
+}
+
+# Bills and runs an order of magnitude apart are in other units (J against
+# kWh: 3.6e6) or of another meter; calibrating would only absorb the
+# mismatch in the discrepancy.
+check_units <- function(y, eta, cols, call = rlang::caller_env()) {
+  size <- c(stats::median(abs(y)), stats::median(abs(eta)))
+  if (any(size == 0)) {
+    return(invisible())
+  }
+  ratio <- max(size) / min(size)
+  if (ratio > 10) {
+    abort_bayesbem(c("The field output and the runs' output differ by a factor of {signif(ratio, 2)}: are they in the same units?",
+                     x = "{.field {cols$y}} in {.arg field} has median size {signif(size[1], 3)}, {.field {cols$eta}} in {.arg sim} {signif(size[2], 3)}.",
+                     i = "Convert one of them (J to kWh: divide by 3.6e6), or check that both are the same meter."),
+                   "units", call = call)
+  }
 }
 
 # The output column of a table by default: the first of `candidates` it

@@ -140,3 +140,13 @@ test_that("an input column that is all NA is called missing", {
   withr::local_options(cli.num_colors = 1)
   expect_snapshot(predict(seb_fit, data.frame(temp = NA, rh = 40, solar = 200)), error = TRUE)
 })
+
+test_that("outputs in other units are an error that names both sizes", {
+  withr::local_options(cli.num_colors = 1)
+  joules <- transform(seb_sim, eta = eta * 3.6e6)
+  expect_snapshot(koh_data(seb_field, joules), error = TRUE)
+  expect_error(koh_data(seb_field, transform(seb_sim, eta = eta * 11)),
+               class = "bayesbem_error_units")
+  # within an order of magnitude is the calibration's business
+  expect_no_error(koh_data(seb_field, transform(seb_sim, eta = eta * 3)))
+})
