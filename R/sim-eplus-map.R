@@ -75,6 +75,7 @@ check_parameter_map <- function(map, model, call = rlang::caller_env()) {
                      x = "{.arg map} has {.val {bad_apply}}."),
                    "parameters", call = call)
   }
+  map <- expand_map_rows(map, model, call)
   missing <- !mapply(function(class, name) name %in% eplus_objects(model, class),
                      map$object_type, map$object_name)
   if (any(missing)) {
@@ -95,6 +96,36 @@ check_parameter_map <- function(map, model, call = rlang::caller_env()) {
                    "parameters", call = call)
   }
   method_rows(map, model, call)
+}
+
+# Rows whose object_name holds a wildcard ("*" for every object of the
+# class, or a glob such as "Office*") become one row per object it matches,
+# said in a message; a wildcard that matches nothing is an error.
+expand_map_rows <- function(map, model, call) {
+  wild <- grepl("[*?]", map$object_name)
+  if (!any(wild)) {
+    return(map)
+  }
+  rows <- lapply(seq_len(nrow(map)), function(i) {
+    if (!wild[i]) {
+      return(map[i, , drop = FALSE])
+    }
+    names <- eplus_objects(model, map$object_type[i])
+    matched <- names[grepl(utils::glob2rx(map$object_name[i]), names)]
+    if (length(matched) == 0L) {
+      abort_bayesbem(c("{.arg map} row {i} ({.field {map$parameter[i]}}): {.val {map$object_name[i]}} matches no {.field {map$object_type[i]}} object.",
+                       i = "Its objects are {.val {names}}."),
+                     "parameters", call = call)
+    }
+    cli::cli_inform(c(i = "{.field {map$parameter[i]}}: {.field {map$object_type[i]}} {.val {map$object_name[i]}} matched {length(matched)} object{?s}: {.val {matched}}."),
+                    class = "bayesbem_message_map_rows")
+    out <- map[rep(i, length(matched)), , drop = FALSE]
+    out$object_name <- matched
+    out
+  })
+  out <- do.call(rbind, rows)
+  rownames(out) <- NULL
+  out
 }
 
 method_rows <- function(map, model, call) {

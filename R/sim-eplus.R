@@ -10,7 +10,9 @@
 #' `rh` and `solar` are that weather's means over them, as in [seb_field].
 #'
 #' The map ([eplus_parameter_map()]) has one row per field a parameter sets:
-#' `parameter`, `object_type`, `object_name`, `field` (its name in the IDD,
+#' `parameter`, `object_type`, `object_name` (or a wildcard: `"*"` for every
+#' object of the class, `"Office*"` for those whose names match, listed in a
+#' message), `field` (its name in the IDD,
 #' any case, or its epJSON key) and `apply`: `"value"` sets the field to the
 #' parameter's value, `"multiply"` to the original value times it (e.g. a
 #' density multiplier), `"divide"` to the original value divided by it (an
