@@ -183,7 +183,10 @@ scale_newdata <- function(data, newdata, arg = "newdata", call = rlang::caller_e
   check_numeric_complete(newdata, x_names, arg, call = call)
   x <- as.matrix(newdata[x_names])
   s <- data$scaling
-  outside <- x_names[colSums(sweep(x, 2, s$x_min, "<") | sweep(x, 2, s$x_max, ">")) > 0]
+  # rounding (weather averaged apart from the fit's) is not extrapolation
+  slack <- 1e-8 * (s$x_max - s$x_min)
+  outside <- x_names[colSums(sweep(x, 2, s$x_min - slack, "<") |
+                               sweep(x, 2, s$x_max + slack, ">")) > 0]
   if (length(outside) > 0L) {
     warn_bayesbem(c("{.arg {arg}} is outside the range the model was calibrated on in {.field {outside}}.",
                     i = "These predictions extrapolate the Gaussian processes; expect them to revert to the mean.",

@@ -24,8 +24,10 @@
 #' @return A data frame with one row per period: `date` (its first day, a
 #'   `Date`: the year is the records' own), `month` (1-12, of the first
 #'   day), `days`, `hours`, `temp` (mean dry-bulb temperature, degrees C),
-#'   `rh` (mean relative humidity, percent), `dni` (mean direct normal
-#'   radiation, W/m2), `dhi` (mean diffuse horizontal radiation, W/m2),
+#'   `rh` (mean relative humidity, percent), `solar` (mean direct normal
+#'   radiation, W/m2: the observable inputs `temp`, `rh` and `solar` of the
+#'   simulators and of [seb_field], so the table can be given to
+#'   [predict()] as it is), `dni` (the same, under the EPW's name), `dhi` (mean diffuse horizontal radiation, W/m2),
 #'   `ghi` (mean global horizontal radiation, W/m2), `hdd` and `cdd`
 #'   (degree-days, K day).
 #' @family simulation
@@ -62,6 +64,7 @@ summarise_epw <- function(hourly, by, base_heating = 18.3, base_cooling = 18.3, 
     hours = as.vector(table(period)),
     temp = mean_by(hourly$temp),
     rh = mean_by(hourly$rh),
+    solar = mean_by(hourly$dni),
     dni = mean_by(hourly$dni),
     dhi = mean_by(hourly$dhi),
     ghi = mean_by(hourly$ghi),

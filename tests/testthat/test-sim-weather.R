@@ -74,3 +74,17 @@ test_that("weather by day and week are the means of their hours, dated", {
   expect_length(daily_out, 365)
   expect_true(all(daily_out > 0))
 })
+
+test_that("weather tables carry the fits' input names, so predict() takes them as they are", {
+  w <- epw_monthly(shipped_epw(2013))
+  expect_equal(w$solar, w$dni)
+  expect_equal(w[c("temp", "rh")], seb_field[c("temp", "rh")], ignore_attr = TRUE)
+  # the file's solar radiation reaches 4.6 W/m2 beyond the fit's
+  extrapolates <- "bayesbem_warning_extrapolation"
+  withr::local_seed(1)
+  expect_warning(from_weather <- predict(seb_fit, w, ndraws = 20), "in solar", class = extrapolates)
+  withr::local_seed(1)
+  expect_warning(by_hand <- predict(seb_fit, data.frame(temp = w$temp, rh = w$rh, solar = w$dni),
+                                    ndraws = 20), class = extrapolates)
+  expect_equal(from_weather$mean, by_hand$mean)
+})
