@@ -1,6 +1,7 @@
 # Benchmark: out-of-sample prediction on real bills (the paper's Table 3
 # test). Calibrate on the 12 measured 2013 bills of the case-study building,
-# predict the six measured bills of January-June 2012 from their weather,
+# predict the six measured bills of January-June 2012 (seb_holdout) from
+# their weather,
 # for each candidate default (emulator mean, parameter scales, modular or
 # joint fit), by two routes:
 #   emulator:  predict() at the 2012 monthly weather (the emulator
@@ -25,11 +26,9 @@ runs_set <- if (length(args) > 0L) args else c("shipped", "eplus")
 ndraws <- as.integer(Sys.getenv("BENCH_DRAWS", "40"))
 cache <- Sys.getenv("BENCH_CACHE", file.path(tempdir(), "holdout-runs"))
 
-shared <- file.path("..", "shared", "data", "nrel-site-entrance", "bills_2012_jan_jun.csv")
-bills <- read.csv(shared)
+bills <- data.frame(kwh = seb_holdout$y)
 epw <- function(year) system.file("extdata", sprintf("%d_AMY.epw.gz", year), package = "bayesbem")
-w12 <- epw_monthly(epw(2012))[1:6, ]
-x12 <- data.frame(temp = w12$temp, rh = w12$rh, solar = w12$dni)
+x12 <- seb_holdout[c("temp", "rh", "solar")]
 params <- c("fan_total_efficiency", "equipment_power_density", "infiltration_per_exterior_area")
 
 candidates <- expand.grid(emulator_mean = c("zero", "linear"), scales = c("identity", "auto"),
