@@ -303,3 +303,99 @@ collect_chains <- function(results, ids, on_failure, call) {
   }
   fits
 }
+
+# Messages and labels about chains in minor modes, for calibrate() and the
+# summary.
+
+# The chains sample_chains() ran again from the draws of the one chain in the
+# main mode: `chains` and `from`; NULL when none was.
+restarted_chains <- function(stanfit) {
+  if (length(attr(stanfit, "restarted")) > 0L) {
+    list(chains = attr(stanfit, "restarted"), from = attr(stanfit, "restarted_from"))
+  }
+}
+
+# The number of chains whose draws a fit holds.
+kept_chains <- function(fit) fit$settings$chains - length(fit$settings$dropped)
+
+# Tells which chains were dropped (`dropped`) or run again from the one
+# chain in the main mode (`restarted`, restarted_chains()) as stuck in a
+# minor mode, and which stage-2 chains were kept there (`kept`); `moved`
+# (from moved_parameters()) lists the calibration parameters the minor mode
+# put elsewhere.
+inform_minor_modes <- function(dropped = integer(0), restarted = NULL, moved = character(),
+                               kept = integer(0)) {
+  if (length(dropped) > 0L || length(restarted) > 0L) {
+    done <- if (length(restarted) == 0L) "dropped" else
+      sprintf("run again from the draws of chain %d, which alone found the main mode", restarted$from)
+    # measured (bench/RESULTS.md, 365 days, problem 3): two modes of the
+    # calibration, the truth between them; validate_emulator() trusted the
+    # emulator at the kept mode and not over both
+    advice <- if (length(moved) > 0L) {
+      c(stats::setNames(moved, rep("x", length(moved))),
+        i = "The emulator can be right at the main mode and wrong between the modes: refit with {.code minor_modes = \"keep\"} and check it over every mode with {.fn validate_emulator}, or add runs with {.fn design_posterior}.")
+    } else {
+      c(i = "Keep every chain as it ran with {.code minor_modes = \"keep\"}.")
+    }
+    said <- sprintf("%s stuck in a minor mode (under e^-5 of the main mode's posterior mass) and %s.",
+                    chains_were(if (length(restarted) == 0L) dropped else restarted$chains), done)
+    cli::cli_inform(c("!" = said, advice), class = "bayesbem_message_minor_modes")
+  }
+  if (length(kept) > 0L) {
+    cli::cli_inform(c("!" = paste0(kept_modes_said(kept), ":"),
+                      stats::setNames(moved, rep("x", length(moved))), i = kept_modes_advice()),
+                    class = "bayesbem_message_minor_modes")
+  }
+}
+
+# What calibrate()'s message and check_convergence()'s hint say of stage-2
+# chains kept in a minor mode. Measured (bench/RESULTS.md, 365 days): with the
+# emulator fixed at stage 1, stage 2 found two modes of the calibration with
+# the truth between them, and validate_emulator() trusted the emulator at the
+# main mode alone.
+kept_modes_said <- function(kept) {
+  paste(chains_were(kept), "kept in a minor mode (under e^-5 of the main mode's posterior mass)",
+        "that puts the calibration parameters elsewhere")
+}
+kept_modes_advice <- function() {
+  paste("With the emulator fixed at its stage-1 estimate such a mode can be the emulator's",
+        "error between runs. Check the emulator over both modes with {.fn validate_emulator}",
+        "and add runs there with {.fn design_posterior}.")
+}
+
+# "Chain 2 was", "Chains 1, 2 and 3 were"
+chains_were <- function(k) {
+  sprintf("Chain%s %s %s", if (length(k) > 1L) "s" else "", and_list(k),
+          if (length(k) > 1L) "were" else "was")
+}
+
+# The calibration parameters that the minor mode put outside the main mode's
+# 90 % interval (`minor_tf`, from minor_mode_tf()), one line each in
+# physical units (every parameter scale is increasing).
+moved_parameters <- function(fit, minor_tf) {
+  moved <- moved_tf(minor_tf)
+  if (!any(moved)) {
+    return(character())
+  }
+  physical <- unscale_t(minor_tf, fit$data$scaling)
+  k <- which(moved)
+  sprintf("%s: %s in the minor mode, %s to %s (90%%) in the main mode.", fit$data$names$t[k],
+          signif(physical["median", k], 3), signif(physical["lower", k], 3),
+          signif(physical["upper", k], 3))
+}
+
+# The chains dropped, restarted or kept (stage 2, calibration elsewhere) as
+# stuck in a minor mode, for the summary.
+minor_modes_label <- function(dropped = integer(0), restarted = NULL, kept = integer(0)) {
+  chains <- function(k) {
+    sprintf("%s %s", if (length(k) > 1L) "chains" else "chain", paste(k, collapse = ", "))
+  }
+  label <- function(what, said) {
+    if (length(said) == 0L) "" else sprintf("; %s (minor mode): %s", what, said)
+  }
+  paste0(label("dropped", if (length(dropped) > 0L) chains(dropped)),
+         label("restarted", if (length(restarted) > 0L) {
+           sprintf("%s from chain %d", chains(restarted$chains), restarted$from)
+         }),
+         label("kept", if (length(kept) > 0L) paste(chains(kept), "(calibration elsewhere)")))
+}
