@@ -32,6 +32,7 @@
 #' @importFrom rstan sampling
 #' @importFrom RcppParallel RcppParallelLibs
 #' @importFrom rlang %||% .data
+#' @importFrom lifecycle deprecated
 #' @importFrom rstantools rstan_config
 #' @importFrom parallel detectCores
 "_PACKAGE"

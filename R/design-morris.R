@@ -9,8 +9,9 @@
 #' over a parameter's whole range and comparable between parameters.
 #'
 #' @param simulator A `bayesbem_simulator`.
-#' @param params The parameter table to screen (default: all of the
+#' @param parameters The parameter table to screen (default: all of the
 #'   simulator's parameters).
+#' @param params Deprecated; use `parameters`.
 #' @param r Number of trajectories (the design runs `(k + 1) * r`
 #'   simulations for `k` parameters).
 #' @param levels Number of grid levels (even; the jump is `levels / 2`).
@@ -32,11 +33,15 @@
 #'   plot_morris(m)
 #' }
 #' }
-screen_morris <- function(simulator, params = simulator$parameters, r = 10, levels = 6,
-                          seed = NULL, output = c("sum", "period")) {
+screen_morris <- function(simulator, parameters = simulator$parameters, r = 10, levels = 6,
+                          seed = NULL, output = c("sum", "period"), params = deprecated()) {
+  if (lifecycle::is_present(params)) {
+    lifecycle::deprecate_warn("0.1.0", "screen_morris(params)", "screen_morris(parameters)")
+    parameters <- params
+  }
   rlang::check_installed("sensitivity", reason = "for Morris screening.")
   output <- match_choice(output)
-  params <- check_parameter_table(params)
+  params <- check_parameter_table(parameters)
   check_count(r)
   check_count(levels)
   if (levels %% 2 != 0) {

@@ -85,7 +85,7 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #'
 #' Guideline 14 calls a model calibrated at CVRMSE <= 15 % and |NMBE| <= 5 %
 #' for monthly data, and 30 % and 10 % for hourly data. It sets no limits
-#' for daily or weekly data; `frequency = "daily"` applies the hourly ones,
+#' for daily or weekly data; `by = "day"` or `"week"` applies the hourly ones,
 #' the limits the Guideline gives for data finer than monthly.
 #'
 #' @param fit A `koh_fit`.
@@ -96,7 +96,8 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #' @param obs Measured outputs of the held-out periods (`NA` for a period
 #'   without a measurement, e.g. the months of a year-long simulator after
 #'   the last bill: left out).
-#' @param frequency `"monthly"`, `"daily"` or `"hourly"`: which limits apply.
+#' @param by The data's periods, `"month"`, `"week"`, `"day"` or `"hour"`
+#'   (as in [epw_weather()]): which limits apply.
 #' @param simulator Optional simulator of the training periods: the
 #'   training rows are then predicted through it.
 #' @param ndraws Number of posterior draws to use (all by default through
@@ -111,10 +112,15 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #' @examples
 #' calibration_metrics(seb_fit, ndraws = 100)
 calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
-                                frequency = c("monthly", "daily", "hourly"),
-                                simulator = NULL, ndraws = NULL, cache_dir = NULL) {
-  frequency <- match_choice(frequency)
-  limits <- switch(frequency, monthly = c(15, 5), daily = , hourly = c(30, 10))
+                                by = c("month", "week", "day", "hour"),
+                                simulator = NULL, ndraws = NULL, cache_dir = NULL,
+                                frequency = deprecated()) {
+  if (lifecycle::is_present(frequency)) {
+    lifecycle::deprecate_warn("0.1.0", "calibration_metrics(frequency)", "calibration_metrics(by)")
+    by <- c(monthly = "month", daily = "day", hourly = "hour")[[frequency]]
+  }
+  by <- match_choice(by)
+  limits <- if (by == "month") c(15, 5) else c(30, 10)
   if (xor(is.null(newdata), is.null(obs))) {
     abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
                    "argument")

@@ -106,8 +106,9 @@ bem_building <- function(...) {
 #' + baseboard (`min(baseboard_share * Q_H, baseboard_capacity * hours)`); gas
 #' is the rest of the heating need over `gas_burner_efficiency`.
 #'
-#' @param params A named list or one-row data frame with all 14 parameters
-#'   of [bem_parameters()] (physical units).
+#' @param parameters A named list or one-row data frame with all 14
+#'   parameters of [bem_parameters()] (physical units).
+#' @param params Deprecated; use `parameters`.
 #' @param weather Monthly weather as from [epw_monthly()] (columns `hours`,
 #'   `temp`, `dni`, `dhi`, `ghi`).
 #' @param building Building properties from [bem_building()].
@@ -119,8 +120,12 @@ bem_building <- function(...) {
 #' p <- stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
 #' w <- epw_monthly(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 #' bem_monthly(p, w)
-bem_monthly <- function(params, weather, building = bem_building()) {
-  p <- as.list(params)
+bem_monthly <- function(parameters, weather, building = bem_building(), params = deprecated()) {
+  if (lifecycle::is_present(params)) {
+    lifecycle::deprecate_warn("0.1.0", "bem_monthly(params)", "bem_monthly(parameters)")
+    parameters <- params
+  }
+  p <- as.list(parameters)
   b <- building
   hours <- weather$hours
   a_window <- b$window_fraction * b$wall_area

@@ -10,14 +10,24 @@
 #'   (e.g. `"Zone Mean Air Temperature"`), any case.
 #' @param key For an output variable reported for several objects, the
 #'   object (e.g. the zone `"ZONE ONE"`).
-#' @param frequency Reporting frequency: `"Daily"`, `"Hourly"`,
-#'   `"Monthly"`, `"Timestep"` or `"RunPeriod"`.
+#' @param by The reporting frequency: `"day"`, `"hour"`, `"month"`,
+#'   `"timestep"` or `"run period"` (EnergyPlus's Daily, Hourly, Monthly,
+#'   Timestep, RunPeriod).
+#' @param frequency Deprecated; use `by`.
 #' @return A data frame with one row per reported interval: `month`, `day`,
 #'   `hour`, `minute` (the end of the interval), `value`; attributes `type`
 #'   (`"Sum"` for energy, `"Avg"` for rates and temperatures) and `units`.
 #' @family EnergyPlus
 #' @export
-eplus_output <- function(run, name, key = NULL, frequency = "Daily") {
+eplus_output <- function(run, name, key = NULL,
+                         by = c("day", "hour", "month", "timestep", "run period"),
+                         frequency = deprecated()) {
+  if (lifecycle::is_present(frequency)) {
+    lifecycle::deprecate_warn("0.1.0", "eplus_output(frequency)", "eplus_output(by)")
+    by <- names(reporting_frequencies())[match(tolower(frequency),
+                                               tolower(reporting_frequencies()))]
+  }
+  frequency <- reporting_frequencies()[[match_choice(by)]]
   check_eplus_run(run)
   con <- DBI::dbConnect(RSQLite::SQLite(), run$sql, flags = RSQLite::SQLITE_RO)
   on.exit(DBI::dbDisconnect(con), add = TRUE)
@@ -35,6 +45,12 @@ eplus_output <- function(run, name, key = NULL, frequency = "Daily") {
     units <- "kWh"
   }
   structure(values, type = entry$Type, units = units)
+}
+
+# EnergyPlus's names of the reporting frequencies, by the package's `by`.
+reporting_frequencies <- function() {
+  c(day = "Daily", hour = "Hourly", month = "Monthly", timestep = "Timestep",
+    `run period` = "RunPeriod")
 }
 
 # The dictionary row of `name` (and `key`) at `frequency`, or an error that

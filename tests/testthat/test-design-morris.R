@@ -38,3 +38,12 @@ test_that("plot_morris() draws mu* against sigma", {
   skip_if_not_installed("vdiffr")
   vdiffr::expect_doppelganger("morris", p)
 })
+
+test_that("screen_morris() takes the old argument name params with a deprecation warning", {
+  skip_if_not_installed("sensitivity")
+  withr::local_options(lifecycle_verbosity = "warning")
+  sim <- bem_simulator(shipped_epw(2013))
+  expect_warning(old <- screen_morris(sim, params = bem_parameters()[c(3, 12), ], r = 2, seed = 1),
+                 class = "lifecycle_warning_deprecated")
+  expect_equal(old, screen_morris(sim, bem_parameters()[c(3, 12), ], r = 2, seed = 1))
+})

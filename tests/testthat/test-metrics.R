@@ -40,9 +40,9 @@ test_that("calibration_metrics() gives training and held-out metrics with a verd
   again <- calibration_metrics(fit, ndraws = 200)
   expect_equal(again$cvrmse[1], cvrmse(seb_field$y, colMeans(draws$eta)))
   expect_equal(again$nmbe[2], nmbe(seb_field$y, colMeans(draws$y)))
-  hourly <- calibration_metrics(fit, frequency = "hourly", ndraws = 50)
+  hourly <- calibration_metrics(fit, by = "hour", ndraws = 50)
   expect_true(hourly$calibrated[2])
-  daily <- calibration_metrics(fit, frequency = "daily", ndraws = 50)
+  daily <- calibration_metrics(fit, by = "day", ndraws = 50)
   expect_equal(daily$calibrated, hourly$calibrated)
   expect_snapshot(calibration_metrics(fit, newdata = held[2:4]), error = TRUE)
 })
@@ -94,4 +94,14 @@ test_that("held-out periods without a measurement are left out", {
   expect_equal(em, again)
   expect_error(calibration_metrics(seb_fit, newdata = sim, obs = rep(NA_real_, 12)),
                class = "bayesbem_error_argument")
+})
+
+test_that("the old spelling of the time resolution still works, with a deprecation warning", {
+  withr::local_options(lifecycle_verbosity = "warning")
+  withr::local_seed(3)
+  new <- calibration_metrics(seb_fit, by = "day", ndraws = 20)
+  withr::local_seed(3)
+  expect_warning(old <- calibration_metrics(seb_fit, frequency = "daily", ndraws = 20),
+                 class = "lifecycle_warning_deprecated")
+  expect_equal(old, new)
 })

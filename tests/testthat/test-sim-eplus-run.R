@@ -6,12 +6,17 @@ test_that("a run reports its errors file and its outputs from SQLite", {
   expect_named(errors, c("level", "message"))
   expect_equal(sum(errors$level %in% c("Severe", "Fatal")), 0)
   expect_match(errors$message[1], "Timestep: Requested number \\(1\\)")
-  monthly <- eplus_output(run, "Electricity:Facility", frequency = "Monthly")
+  monthly <- eplus_output(run, "Electricity:Facility", by = "month")
   # the base model's annual electricity (models/README.md: 25,085 kWh)
   expect_equal(sum(monthly$value), 25085, tolerance = 1e-3)
   expect_equal(attr(monthly, "units"), "kWh")
-  expect_error(eplus_output(run, "Electricity:Facility", frequency = "Hourly"),
+  expect_error(eplus_output(run, "Electricity:Facility", by = "hour"),
                class = "bayesbem_error_eplus_output")
+  # the old spelling still works, with a deprecation warning
+  withr::local_options(lifecycle_verbosity = "warning")
+  expect_warning(old <- eplus_output(run, "Electricity:Facility", frequency = "Monthly"),
+                 class = "lifecycle_warning_deprecated")
+  expect_equal(old, monthly)
 })
 
 test_that("the errors file is parsed with continuation lines", {

@@ -109,7 +109,7 @@ test_that("gas is an output like electricity", {
   expect_gt(sum(out$eta[13:24]), sum(out$eta[1:12]))
   expect_gt(out$eta[1], out$eta[7])
   run <- eplus_run(seb_model(), shipped_epw(2013))
-  monthly <- eplus_output(run, "NaturalGas:Facility", frequency = "Monthly")
+  monthly <- eplus_output(run, "NaturalGas:Facility", by = "month")
   base <- simulate_design(gas, data.frame(heating_setpoint = 18.3))
   expect_equal(base$eta, monthly$value, tolerance = 1e-6)
 })
