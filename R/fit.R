@@ -196,13 +196,9 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
     stage1$basis <- basis_emulator(data)
     sampler$args$init <- basis_inits(sampler$args$init)
   }
-  stan_data <- if (emulator_type == "basis") basis_stan_data(data, priors, stage1) else
-    if (modular) modular_stan_data(data, priors, stage1) else
-    koh_stan_data(data, priors, if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at"),
-                  structure)
-  model <- if (emulator_type == "basis") stanmodels$koh_basis else
-    if (modular) stanmodels$koh_modular else
-    if (structure == "grid") stanmodels$koh_grid else stanmodels$koh
+  program <- stan_program(data, priors, stage1, emulator_type, modular, structure, predict_at)
+  model <- program$model
+  stan_data <- program$data
   label <- sprintf("%s %d chain%s", if (modular) "Stage 2: sampling" else "Sampling", chains,
                    if (chains > 1L) "s" else "")
   stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label, keep_moved = modular),
@@ -221,6 +217,24 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                      moved_parameters(fit, attr(stanfit, "minor_tf")), fit$settings$kept_moved)
   check_convergence(fit)
   fit
+}
+
+# The Stan program of a fit and its data, one row per kind of fit:
+#   joint, dense likelihood      koh.stan          koh_stan_data()      (R/priors.R)
+#   joint, grid likelihood       koh_grid.stan     koh_stan_data()
+#   modular, separable emulator  koh_modular.stan  modular_stan_data()  (R/fit-modular.R)
+#   modular, basis emulator      koh_basis.stan    basis_stan_data()    (R/fit-basis.R)
+# Stage 1 of a modular fit is koh_emulator.stan (emulator_stan_data()).
+stan_program <- function(data, priors, stage1, emulator, modular, structure, predict_at) {
+  if (emulator == "basis") {
+    return(list(model = stanmodels$koh_basis, data = basis_stan_data(data, priors, stage1)))
+  }
+  if (modular) {
+    return(list(model = stanmodels$koh_modular, data = modular_stan_data(data, priors, stage1)))
+  }
+  x_pred <- if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at")
+  list(model = if (structure == "grid") stanmodels$koh_grid else stanmodels$koh,
+       data = koh_stan_data(data, priors, x_pred, structure))
 }
 
 # The iterations and warm-up of a fit: the caller's, else the defaults of
