@@ -5,7 +5,8 @@
 #' parameters (bar) and the simulator's real output there (point; red when
 #' outside the interval). See [validate_emulator()].
 #'
-#' @param check A `koh_emulator_check` from [validate_emulator()].
+#' @param x A `koh_emulator_check` from [validate_emulator()].
+#' @param check Deprecated; use `x`.
 #' @return `plot_emulator_check()`: a ggplot. `plot_emulator_check_data()`:
 #'   the check's table with `position`, the period offset by draw.
 #' @family plots
@@ -16,7 +17,8 @@
 #' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 #' plot_emulator_check(validate_emulator(seb_fit, sim, ndraws = 5))
 #' }
-plot_emulator_check <- function(check) {
+plot_emulator_check <- function(x, check = deprecated()) {
+  check <- renamed_first(x, check, "plot_emulator_check", "check")
   d <- plot_emulator_check_data(check)
   ggplot2::ggplot(d, ggplot2::aes(x = .data$position)) +
     ggplot2::geom_linerange(ggplot2::aes(ymin = .data$lower, ymax = .data$upper),
@@ -33,7 +35,8 @@ plot_emulator_check <- function(check) {
 
 #' @rdname plot_emulator_check
 #' @export
-plot_emulator_check_data <- function(check) {
+plot_emulator_check_data <- function(x, check = deprecated()) {
+  check <- renamed_first(x, check, "plot_emulator_check_data", "check")
   if (!inherits(check, "koh_emulator_check")) {
     abort_bayesbem("{.arg check} must come from {.fn validate_emulator}, not {describe_value(check)}.",
                    "argument")

@@ -4,7 +4,8 @@
 #' its physical units, with the prior density overlaid (flat, or the
 #' truncated normal of an informative prior), over the design range.
 #'
-#' @param fit A `koh_fit`.
+#' @param x A `koh_fit`.
+#' @param fit Deprecated; use `x`.
 #' @param n_grid Number of points at which densities are evaluated.
 #' @return `plot_posteriors()`: a ggplot. `plot_posteriors_data()`: a data
 #'   frame with columns `parameter`, `value`, `density` and `curve`
@@ -14,7 +15,8 @@
 #' @examples
 #' plot_posteriors(seb_fit)
 #' head(plot_posteriors_data(seb_fit))
-plot_posteriors <- function(fit, n_grid = 200) {
+plot_posteriors <- function(x, n_grid = 200, fit = deprecated()) {
+  fit <- renamed_first(x, fit, "plot_posteriors", "fit")
   d <- plot_posteriors_data(fit, n_grid)
   ggplot2::ggplot(d, ggplot2::aes(.data$value, .data$density, colour = .data$curve,
                                   linetype = .data$curve)) +
@@ -29,7 +31,8 @@ plot_posteriors <- function(fit, n_grid = 200) {
 
 #' @rdname plot_posteriors
 #' @export
-plot_posteriors_data <- function(fit, n_grid = 200) {
+plot_posteriors_data <- function(x, n_grid = 200, fit = deprecated()) {
+  fit <- renamed_first(x, fit, "plot_posteriors_data", "fit")
   data <- fit$data
   draws <- parameter_draws(fit)
   bounds <- t_bounds(data$scaling)

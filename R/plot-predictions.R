@@ -5,7 +5,8 @@
 #' each point, with the measured values as points, one panel per observable
 #' input (the paper's Listing 1 loop).
 #'
-#' @param fit A `koh_fit`.
+#' @param x A `koh_fit`.
+#' @param fit Deprecated; use `x`.
 #' @param newdata Observable inputs to predict at (default: the field
 #'   inputs).
 #' @param obs Measured outputs at `newdata` (default: the field outputs when
@@ -20,7 +21,9 @@
 #' @export
 #' @examples
 #' plot_predictions(seb_fit, ndraws = 100)
-plot_predictions <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
+plot_predictions <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
+                             fit = deprecated()) {
+  fit <- renamed_first(x, fit, "plot_predictions", "fit")
   d <- plot_predictions_data(fit, newdata, obs, ndraws)
   ggplot2::ggplot(d, ggplot2::aes(x = .data$x, group = .data$point)) +
     geom_quantile_box(ggplot2::aes(width = .data$width), fill = "#cfe0ef", colour = "#1b6ca8") +
@@ -33,7 +36,9 @@ plot_predictions <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
 
 #' @rdname plot_predictions
 #' @export
-plot_predictions_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
+plot_predictions_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
+                                  fit = deprecated()) {
+  fit <- renamed_first(x, fit, "plot_predictions_data", "fit")
   set <- prediction_set(fit, newdata, obs)
   stats <- box_stats(predict_draws(fit, set$x, ndraws = ndraws)$y)
   x_names <- fit$data$names$x
@@ -71,7 +76,9 @@ plot_predictions_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL
 #' @export
 #' @examples
 #' plot_components(seb_fit, ndraws = 100)
-plot_components <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
+plot_components <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
+                            fit = deprecated()) {
+  fit <- renamed_first(x, fit, "plot_components", "fit")
   d <- plot_components_data(fit, newdata, obs, ndraws)
   zero <- data.frame(component = factor(component_labels()[3], levels = component_labels()),
                      y = 0)
@@ -89,7 +96,9 @@ plot_components <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
 
 #' @rdname plot_components
 #' @export
-plot_components_data <- function(fit, newdata = NULL, obs = NULL, ndraws = NULL) {
+plot_components_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
+                                 fit = deprecated()) {
+  fit <- renamed_first(x, fit, "plot_components_data", "fit")
   sets <- evaluation_sets(fit, newdata, obs)
   labels <- component_labels()
   rows <- lapply(names(sets), function(set) {

@@ -6,7 +6,8 @@
 #' `lambda_e`, drawn by [bayesplot::mcmc_trace()]. Well-mixed chains look
 #' like stationary noise that overlaps.
 #'
-#' @param fit A `koh_fit`.
+#' @param x A `koh_fit`.
+#' @param fit Deprecated; use `x`.
 #' @param variables Variables to show (names as in
 #'   `posterior::variables(posterior::as_draws(fit))`); all by default.
 #' @return `plot_trace()`: a ggplot. `plot_trace_data()`: a data frame from
@@ -17,14 +18,16 @@
 #' @export
 #' @examples
 #' plot_trace(seb_fit, variables = c("equipment_power_density", "lambda_e"))
-plot_trace <- function(fit, variables = NULL) {
+plot_trace <- function(x, variables = NULL, fit = deprecated()) {
+  fit <- renamed_first(x, fit, "plot_trace", "fit")
   bayesplot::mcmc_trace(trace_draws(fit, variables)) +
     ggplot2::theme_bw()
 }
 
 #' @rdname plot_trace
 #' @export
-plot_trace_data <- function(fit, variables = NULL) {
+plot_trace_data <- function(x, variables = NULL, fit = deprecated()) {
+  fit <- renamed_first(x, fit, "plot_trace_data", "fit")
   bayesplot::mcmc_trace_data(trace_draws(fit, variables))
 }
 
