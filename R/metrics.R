@@ -117,7 +117,7 @@ calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                                 frequency = deprecated()) {
   if (lifecycle::is_present(frequency)) {
     lifecycle::deprecate_warn("0.1.0", "calibration_metrics(frequency)", "calibration_metrics(by)")
-    by <- c(monthly = "month", daily = "day", hourly = "hour")[[frequency]]
+    by <- unname(c(monthly = "month", daily = "day", hourly = "hour")[frequency])
   }
   by <- match_choice(by)
   limits <- if (by == "month") c(15, 5) else c(30, 10)
@@ -156,19 +156,13 @@ training_predictions <- function(fit, simulator, ndraws, cache_dir,
 # Held-out periods without a measurement (NA in `obs`) are left out.
 heldout_predictions <- function(fit, newdata, obs, ndraws, cache_dir,
                                 call = rlang::caller_env()) {
-  if (!is.data.frame(newdata)) newdata <- as_scenario(newdata, call = call)
-  n <- if (is.data.frame(newdata)) nrow(newdata) else nrow(newdata$simulator$x)
-  if (!is.numeric(obs) || length(obs) != n || all(is.na(obs))) {
-    abort_bayesbem(c("{.arg obs} must be numeric with one value per held-out period.",
-                     x = "It has {length(obs)} value{?s} for {n} period{?s}.",
-                     i = "Give NA for a period without a measurement."),
-                   "argument", call = call)
-  }
-  rows <- which(!is.na(obs))
   if (is.data.frame(newdata)) {
+    rows <- measured_periods(obs, nrow(newdata), call = call)
     return(emulator_predictions(fit, newdata[rows, , drop = FALSE], obs[rows], ndraws))
   }
-  simulator_predictions(fit, newdata, obs[rows], ndraws, cache_dir, rows = rows)
+  scenario <- as_scenario(newdata, arg = "newdata", call = call)
+  rows <- measured_periods(obs, nrow(scenario$simulator$x), call = call)
+  simulator_predictions(fit, scenario, obs[rows], ndraws, cache_dir, rows = rows)
 }
 
 # The simulator route: the simulator rerun at `ndraws` posterior draws (40

@@ -20,9 +20,7 @@ plot.koh_fit <- function(x, type = c("posteriors", "trace", "predictions", "comp
   type <- match_choice(type)
   plotter <- switch(type, posteriors = plot_posteriors, trace = plot_trace,
                     predictions = plot_predictions, components = plot_components)
-  # the plotter's arguments after `x`, less the deprecated spelling of `x`
-  args <- setdiff(names(formals(plotter))[-1], "fit")
-  check_dots_in(list(...), args, sprintf("plot_%s()", type))
+  check_dots_in(list(...), current_arguments(plotter)[-1], sprintf("plot_%s()", type))
   plotter(x, ...)
 }
 

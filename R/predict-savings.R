@@ -71,9 +71,8 @@ savings <- function(fit, baseline, retrofit, ndraws = 40,
 summary.koh_savings <- function(object, level = 0.9, ...) {
   rlang::check_dots_empty()
   check_probability(level)
-  with_total <- function(m) cbind(m, rowSums(m))
   saved <- with_total(object$savings)
-  q <- column_quantiles(saved, c((1 - level) / 2, 1 - (1 - level) / 2))
+  q <- column_quantiles(saved, interval_probs(level))
   baseline <- colMeans(with_total(object$baseline))
   data.frame(period = total_labels(ncol(object$savings)), baseline = baseline,
              retrofit = colMeans(with_total(object$retrofit)), savings = colMeans(saved),
@@ -115,6 +114,12 @@ check_same_periods <- function(baseline, retrofit, call = rlang::caller_env()) {
 
 # Row labels of per-period tables with their total.
 total_labels <- function(n) c(as.character(seq_len(n)), "total")
+
+# Draws by periods with a last column, their total over the periods.
+with_total <- function(draws) cbind(draws, rowSums(draws))
+
+# The quantiles that bound a central interval of `level`.
+interval_probs <- function(level) c((1 - level) / 2, 1 - (1 - level) / 2)
 
 #' Avoided energy use: adjusted baseline less measured use (IPMVP Option D)
 #'
@@ -173,11 +178,10 @@ avoided_energy <- function(fit, reporting, measured, ndraws = 40, level = 0.9,
   adjusted <- predict_scenario(fit, reporting, ndraws = ndraws, cache_dir = cache_dir)$y
   adjusted <- adjusted[, keep, drop = FALSE]
   avoided <- adjusted - rep(measured, each = nrow(adjusted))
-  probs <- c((1 - level) / 2, 1 - (1 - level) / 2)
-  both <- cbind(avoided, rowSums(avoided))
-  q <- column_quantiles(both, probs)
+  both <- with_total(avoided)
+  q <- column_quantiles(both, interval_probs(level))
   table <- data.frame(period = c(as.character(keep), "total"),
-                      adjusted_baseline = colMeans(cbind(adjusted, rowSums(adjusted))),
+                      adjusted_baseline = colMeans(with_total(adjusted)),
                       measured = c(measured, sum(measured)), avoided = colMeans(both),
                       sd = apply(both, 2, stats::sd), lower = q[, 1], upper = q[, 2],
                       row.names = NULL)
@@ -192,12 +196,14 @@ avoided_energy <- function(fit, reporting, measured, ndraws = 40, level = 0.9,
             class = "koh_avoided_energy")
 }
 
-# The reporting periods with a measurement: `measured` has one value per
-# period of the reporting simulator, NA where there is none.
-measured_periods <- function(measured, n, call = rlang::caller_env()) {
+# The periods with a measurement: `measured` has one value per period of a
+# simulator (`n`), NA where there is none (avoided_energy(), held-out
+# periods of calibration_metrics()).
+measured_periods <- function(measured, n, arg = rlang::caller_arg(measured),
+                             call = rlang::caller_env()) {
   if (!is.numeric(measured) || length(measured) != n || any(is.infinite(measured)) ||
       all(is.na(measured))) {
-    abort_bayesbem(c("{.arg measured} must hold one number per reporting period ({n}).",
+    abort_bayesbem(c("{.arg {arg}} must hold one number per period ({n}).",
                      x = "It is {describe_value(measured)} of length {length(measured)}.",
                      i = "Give NA for a period without a measurement."),
                    "argument", call = call)
@@ -216,7 +222,7 @@ guideline14_fsu <- function(fit, m, fraction, level) {
   res <- obs - pred
   rho <- sum(res[-1] * res[-n]) / sum(res^2)
   n_eff <- if (rho > 0) n * (1 - rho) / (1 + rho) else n
-  t <- stats::qt(1 - (1 - level) / 2, n - 1)
+  t <- stats::qt(interval_probs(level)[2], n - 1)
   t * 1.26 * cv * sqrt((n / n_eff) * (1 + 2 / n_eff) / m) / fraction
 }
 

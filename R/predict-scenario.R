@@ -346,8 +346,7 @@ noise_draws <- function(fit, draws, n) {
 
 # Mean, sd and quantiles of each period's draws and of their total.
 draws_with_total <- function(draws, inputs, probs) {
-  labels <- total_labels(ncol(draws))
-  total <- cbind(draws, rowSums(draws))
   inputs <- rbind(inputs, inputs[NA_integer_, , drop = FALSE])
-  summarise_columns(total, data.frame(period = labels, inputs), probs)
+  summarise_columns(with_total(draws), data.frame(period = total_labels(ncol(draws)), inputs),
+                    probs)
 }

@@ -173,13 +173,16 @@ leap_day_setup <- function(model, weather, dir) {
   copy <- file.path(dir, paste0("leap-", basename(weather)))
   writeLines(lines, copy)
   years <- as.integer(sub(",.*", "", records[c(1, length(records))]))
-  if (!is.null(model$json$RunPeriod)) model$json$RunPeriod <- lapply(model$json$RunPeriod, function(period) {
+  with_years <- function(period) {
     if (is.null(period$begin_year)) {
       period$begin_year <- years[1]
       period$end_year <- years[2]
     }
     period
-  })
+  }
+  if (!is.null(model$json$RunPeriod)) {
+    model$json$RunPeriod <- lapply(model$json$RunPeriod, with_years)
+  }
   list(model = model, weather = copy)
 }
 

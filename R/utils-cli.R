@@ -124,6 +124,13 @@ print_rounded <- function(df, digits) {
   print(df, row.names = FALSE)
 }
 
+# A function's arguments but those kept only as deprecated spellings
+# (default `deprecated()`), for messages that list what it takes.
+current_arguments <- function(fun) {
+  args <- formals(fun)
+  names(args)[!vapply(args, identical, logical(1), quote(deprecated()))]
+}
+
 # The first argument of a function that renamed it to `x` (bayesplot's
 # layout): the value given under the old name, with a deprecation warning,
 # else `x`. `x` is not touched when the old name was used.

@@ -56,8 +56,3 @@ test_that("summaries have the parameters as row names and print without scientif
                formatC(inf$mean, format = "f", digits = digits), fixed = TRUE)
   expect_equal(bayesbem:::sd_decimals(c(1.2, 0.05, 0.00023, 400, 0, NA)), c(1, 3, 5, 0, 3, 3))
 })
-
-# bench/RESULTS.md: longer, more careful chains helped joint fits of 12
-# and 36 months and the modular stage 2 at 36 months; above 36 field rows
-# the modular stage 2 needs 2000 iterations, and with the basis emulator
-# 2000 draws after 1000 warm-up iterations, at 0.95 with a dense metric

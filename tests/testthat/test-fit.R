@@ -250,6 +250,7 @@ test_that("wrong argument types say what they are", {
   expect_error(calibrate(seb_field, seb_sim, iter = 1.5), class = "bayesbem_error_argument")
 })
 
+# The defaults by size and emulator (bench/RESULTS.md, "Reliability")
 test_that("default sampling depends on the kind of fit and the data size", {
   careful <- list(iter = 4000L, warmup = 2000L, control = list(adapt_delta = 0.99))
   expect_equal(bayesbem:::default_sampling(FALSE, 12), careful)
