@@ -328,9 +328,8 @@ inform_minor_modes <- function(dropped = integer(0), restarted = NULL, moved = c
   if (length(dropped) > 0L || length(restarted) > 0L) {
     done <- if (length(restarted) == 0L) "dropped" else
       sprintf("run again from the draws of chain %d, which alone found the main mode", restarted$from)
-    # measured (bench/RESULTS.md, 365 days, problem 3): two modes of the
-    # calibration, the truth between them; validate_emulator() trusted the
-    # emulator at the kept mode and not over both
+    # a mode that moves the calibration can be the fixed emulator's error
+    # (see kept_modes_advice()): the advice is to check it over every mode
     advice <- if (length(moved) > 0L) {
       c(stats::setNames(moved, rep("x", length(moved))),
         i = "The emulator can be right at the main mode and wrong between the modes: refit with {.code minor_modes = \"keep\"} and check it over every mode with {.fn validate_emulator}, or add runs with {.fn design_posterior}.")
@@ -349,10 +348,9 @@ inform_minor_modes <- function(dropped = integer(0), restarted = NULL, moved = c
 }
 
 # What calibrate()'s message and check_convergence()'s hint say of stage-2
-# chains kept in a minor mode. Measured (bench/RESULTS.md, 365 days): with the
-# emulator fixed at stage 1, stage 2 found two modes of the calibration with
-# the truth between them, and validate_emulator() trusted the emulator at the
-# main mode alone.
+# chains kept in a minor mode. With the emulator fixed at stage 1, two modes
+# of the calibration can have the truth between them while the emulator
+# checks out at the main mode alone, so both modes need checking.
 kept_modes_said <- function(kept) {
   paste(chains_were(kept), "kept in a minor mode (under e^-5 of the main mode's posterior mass)",
         "that puts the calibration parameters elsewhere")

@@ -295,14 +295,16 @@ default_path <- function(data) {
 
 # Taking the dense likelihood because the runs are not a grid is slow
 # above a few hundred rows: say why, what it costs, how to avoid it. The
-# cost is bench/RESULTS.md's "Scaling" (dense, ms per gradient about
-# 1.2e-9 N^3 s) times the 60,000-80,000 gradients of a default fit.
+# cost per gradient grows as N^3; its constant and the gradients of a
+# default fit are bench/RESULTS.md's "Scaling".
 inform_dense <- function(data, structure, asked) {
   if (structure != "dense" || asked == "dense") {
     return(invisible())
   }
   rows <- data$n + data$m
-  hours <- 7e4 * 1.2e-9 * rows^3 / 3600
+  seconds_per_gradient <- 1.2e-9 * rows^3
+  gradients_per_fit <- 7e4
+  hours <- gradients_per_fit * seconds_per_gradient / 3600
   if (hours < 0.1) {
     return(invisible())
   }
