@@ -24,7 +24,7 @@
 #' @param plot_dir A directory to save the plots in as PNG files
 #'   (`posteriors.png`, `components.png`, `trace.png`); by default they are
 #'   drawn on the current graphics device.
-#' @return The `koh_fit`, invisibly.
+#' @return The `bayesbem_fit`, invisibly.
 #' @family case study
 #' @export
 #' @examples

@@ -78,7 +78,7 @@
 #'   parameters `"identity"`, `"log"` or `"reciprocal"` (the others keep
 #'   the identity), e.g. `c(fan_total_efficiency = "reciprocal")`. Reports
 #'   and draws are always in physical units.
-#' @return An object of class `koh_data`: the scaled matrices `y`, `eta`,
+#' @return An object of class `bayesbem_data`: the scaled matrices `y`, `eta`,
 #'   `xf`, `xc`, `tc`, the column names, the sizes `n`, `m`, `p`, `q`, the
 #'   `scaling` constants, and `grid`: the layout of the runs when every run
 #'   was made at every field input, and possibly at further inputs such as
@@ -154,7 +154,7 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, perio
       field = field,
       sim = sim
     ),
-    class = "koh_data"
+    class = "bayesbem_data"
   )
 }
 
@@ -163,15 +163,15 @@ field_table <- function(data) {
   data$field[c(data$names$y, data$names$x, data$names$period)]
 }
 
-# `field` itself when it is a koh_data object, else koh_data(field, sim).
+# `field` itself when it is a bayesbem_data object, else koh_data(field, sim).
 as_koh_data <- function(field, sim) {
-  if (inherits(field, "koh_data")) field else koh_data(field, sim)
+  if (inherits(field, "bayesbem_data")) field else koh_data(field, sim)
 }
 
 #' @export
-print.koh_data <- function(x, ...) {
+print.bayesbem_data <- function(x, ...) {
   rlang::check_dots_empty()
-  cat_lines("{.cls koh_data}: {x$n} field row{?s}, {x$m} simulation row{?s}",
+  cat_lines("{.cls bayesbem_data}: {x$n} field row{?s}, {x$m} simulation row{?s}",
             "* output: {.field {x$names$y}} (field), {.field {x$names$eta}} (simulation)",
             "* {x$p} observable input{?s} x: {.field {x$names$x}}",
             "* {x$q} calibration parameter{?s} t: {.field {x$names$t}}",

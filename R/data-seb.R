@@ -87,14 +87,14 @@
 
 #' Case study: a small example calibration
 #'
-#' A joint `koh_fit` (`modular = FALSE`: every hyperparameter sampled) of
+#' A joint `bayesbem_fit` (`modular = FALSE`: every hyperparameter sampled) of
 #' [seb_field] and [seb_sim] with the default priors (2 chains of 400
 #' iterations, seed 2018), shipped so that examples run in seconds. Too
 #' short for conclusions: it has not converged for every hyperparameter
 #' (see [check_convergence()]); calibrate with more iterations for real
 #' work.
 #'
-#' @format A `koh_fit` (see [calibrate()]).
+#' @format A `bayesbem_fit` (see [calibrate()]).
 #' @source Built by `data-raw/seb_fit.R`.
 #' @family case study
 #' @examples

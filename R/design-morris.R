@@ -101,7 +101,7 @@ print.bayesbem_morris <- function(x, digits = 3, ...) {
 #'
 #' @param x A `bayesbem_morris` result of [screen_morris()] with
 #'   `output = "sum"`.
-#' @return `plot_morris()`: a ggplot. `plot_morris_data()`: a data frame
+#' @return `plot_morris()` (and `plot(x)`): a ggplot. `plot_morris_data()`: a data frame
 #'   with `parameter`, `mu_star`, `sigma` and `rank`.
 #' @family design
 #' @family plots
@@ -121,6 +121,12 @@ plot_morris <- function(x) {
     ggplot2::scale_x_continuous(expand = ggplot2::expansion(mult = c(0.05, 0.45))) +
     ggplot2::labs(x = "mu* (mean absolute elementary effect)", y = "sigma") +
     ggplot2::theme_bw()
+}
+
+#' @export
+plot.bayesbem_morris <- function(x, ...) {
+  rlang::check_dots_empty()
+  plot_morris(x)
 }
 
 #' @rdname plot_morris

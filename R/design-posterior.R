@@ -18,7 +18,7 @@
 #' ten runs restored coverage at 120 days, two rounds at 365 days. Repeat
 #' while the posterior still moves.
 #'
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param n Number of runs.
 #' @param level Probability mass of the central posterior interval each
 #'   parameter's runs span.
@@ -37,7 +37,7 @@
 #' }
 design_posterior <- function(fit, n, level = 0.9, seed = NULL, ...) {
   rlang::check_dots_empty()
-  check_koh_fit(fit)
+  check_fit(fit)
   check_run_count(n)
   check_probability(level)
   # tf is on the emulator's [0, 1] scale, so quantiles and strata are too

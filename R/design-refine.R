@@ -28,7 +28,7 @@
 #' the observable inputs' values): a simulator over more periods serves, one
 #' that lacks some of them is an error (class `bayesbem_error_simulator`).
 #'
-#' @param fit A `koh_fit` from [calibrate()].
+#' @param fit A `bayesbem_fit` from [calibrate()].
 #' @param simulator The `bayesbem_simulator` whose runs the fit was
 #'   calibrated on.
 #' @param n Number of runs added per round.
@@ -38,7 +38,7 @@
 #' @param seed Seed of the first round's design; round `r` uses `seed + r -
 #'   1`. `NULL`: random.
 #' @param ... Unused.
-#' @return The last fit (a `koh_fit`, calibrated on the fit's runs and every
+#' @return The last fit (a `bayesbem_fit`, calibrated on the fit's runs and every
 #'   added run, `fit$data$sim`), with `refinement`: one row per check
 #'   (`round`, 0 for the fit given; `runs`, the runs it was calibrated on;
 #'   `trusted`; `max_shift`, the largest absolute calibration shift in
@@ -63,7 +63,7 @@
 refine_emulator <- function(fit, simulator, n = 10, rounds = 3, ndraws = 20, level = 0.9,
                             seed = NULL, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
-  check_koh_fit(fit)
+  check_fit(fit)
   check_run_count(n)
   check_count(rounds)
   if (!is.null(seed)) check_count(seed)
@@ -116,7 +116,7 @@ refinement_runs <- function(data, added, call = rlang::caller_env()) {
   added[key(added) %in% periods, names(data$sim), drop = FALSE]
 }
 
-# The number of simulation runs (distinct parameter settings) of a koh_data.
+# The number of simulation runs (distinct parameter settings) of a bayesbem_data.
 run_count <- function(data) nrow(unique(data$tc))
 
 # One row per check of refine_emulator().

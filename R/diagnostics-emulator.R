@@ -6,7 +6,7 @@
 #' real outputs with the emulator's predictions at those draws. For each
 #' draw the emulator's prediction is the Gaussian conditional of
 #' `eta(x, tf)` given all data under that draw's hyperparameters (as in
-#' [predict.koh_fit()] with `type = "eta"`); for a fit calibrated with the
+#' [predict.bayesbem_fit()] with `type = "eta"`); for a fit calibrated with the
 #' basis emulator (`calibrate(emulator = "basis")`, the default above 36
 #' field rows) it is that emulator's given the runs, the error stage 2
 #' calibrated with. Its `level` interval should hold the simulator's output
@@ -63,7 +63,7 @@
 #' but other input values is taken in order, with a warning of class
 #' `bayesbem_warning_simulator`.
 #'
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param simulator A `bayesbem_simulator` whose parameters include the
 #'   fit's calibration parameters (others are held at their initial values).
 #' @param ndraws Number of posterior draws (evenly spaced) to run the
@@ -75,7 +75,7 @@
 #'   (`TRUE`) or a draws-by-periods matrix.
 #' @param probs Quantiles reported when `summary = TRUE`.
 #' @param ... Unused.
-#' @return `validate_emulator()`: an object of class `koh_emulator_check`, a
+#' @return `validate_emulator()`: an object of class `bayesbem_emulator_check`, a
 #'   list with `table` (one row per draw and period: `draw`, `period`, the
 #'   inputs, `simulated`, the emulator's `mean`, `sd`, `lower` and `upper`,
 #'   and `inside`), `periods` (per period: mean error, RMSE and coverage),
@@ -194,7 +194,7 @@ posterior_simulate <- function(fit, simulator, ndraws = 20, summary = TRUE,
 # scale), their indices, and the outputs at the fit's field rows (draws by
 # rows; NA rows for failed runs).
 posterior_runs <- function(fit, simulator, ndraws, cache_dir, call = rlang::caller_env()) {
-  check_koh_fit(fit, call = call)
+  check_fit(fit, call = call)
   check_count(ndraws, call = call)
   rows <- simulator_rows(fit, simulator, call)
   draws <- draw_parameters(fit, ndraws)
@@ -296,7 +296,7 @@ emulator_verdict <- function(table, fit, runs, level, shift, max_shift = 0.5,
   structure(list(table = table, periods = periods, coverage = coverage, rmse = rmse,
                  noise_sd = noise_sd, shift = shift, distance = distance, level = level,
                  trusted = trusted, verdict = verdict, y = data$names$y),
-            class = "koh_emulator_check")
+            class = "bayesbem_emulator_check")
 }
 
 # Median distance of the draws' tf to the nearest run, over the runs' median
@@ -316,7 +316,7 @@ design_distance <- function(data, draws) {
 }
 
 #' @export
-print.koh_emulator_check <- function(x, ...) {
+print.bayesbem_emulator_check <- function(x, ...) {
   rlang::check_dots_empty()
   cat(strwrap(x$verdict), sep = "\n")
   cat("\nShift of the calibration by the emulator's error (posterior sd; z: over the shift its stated error explains):\n")
@@ -325,10 +325,4 @@ print.koh_emulator_check <- function(x, ...) {
   cat("\nPer period:\n")
   print_rounded(x$periods, 3)
   invisible(x)
-}
-
-#' @export
-plot.koh_emulator_check <- function(x, ...) {
-  rlang::check_dots_empty()
-  plot_emulator_check(x)
 }

@@ -24,14 +24,14 @@
 #' parameters elsewhere (see `minor_modes` in [calibrate()]), the hint names
 #' them and advises checking the emulator over both modes.
 #'
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param rhat_max R-hat at or above which a parameter has not converged.
 #' @param ess_min Smallest acceptable bulk and tail ESS; by default 100 per
 #'   chain (400 for 4 chains).
 #' @param ebfmi_min Smallest acceptable E-BFMI of a chain (0.3, the
 #'   threshold of Betancourt 2016 that Stan's documentation uses).
 #' @param warn Raise the warning (`TRUE`) or only return the table.
-#' @return A data frame of class `koh_convergence` with columns `variable`,
+#' @return A data frame of class `bayesbem_convergence` with columns `variable`,
 #'   `rhat`, `ess_bulk`, `ess_tail` and `ok`, and an attribute `sampler`: a
 #'   list with `divergent`, `treedepth_hits`, `max_treedepth` and `ebfmi`
 #'   (one per chain).
@@ -48,7 +48,7 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
   rownames(s) <- NULL
   sampler <- fit_sampler_diagnostics(fit)
   s$ok <- s$rhat < rhat_max & s$ess_bulk >= ess_min & s$ess_tail >= ess_min
-  out <- structure(s, class = c("koh_convergence", "data.frame"), sampler = sampler,
+  out <- structure(s, class = c("bayesbem_convergence", "data.frame"), sampler = sampler,
                    thresholds = list(rhat_max = rhat_max, ess_min = ess_min,
                                      ebfmi_min = ebfmi_min),
                    emulator = emulator_variables(fit),
@@ -133,11 +133,10 @@ warn_convergence <- function(conv) {
   invisible(conv)
 }
 
-# Measured (bench/RESULTS.md, reliability): with few runs per parameter the
-# chains that disagree only on the emulator's length scales sit in modes of
-# similar posterior mass, crossed once or twice in 2000 draws; runs where
-# the posterior lies removed them in 3 of 4 problems (12 months x 10 runs,
-# already at the joint default of 4000 iterations at adapt_delta 0.99).
+# With few runs per parameter the chains that disagree only on the
+# emulator's length scales sit in modes of similar posterior mass, seldom
+# crossed; runs where the posterior lies removed them in most problems
+# measured (inst/notes/design.md, "Sampling").
 emulator_modes_hint <- function() {
   c(i = paste("Only the emulator's hyperparameters failed: the calibration parameters,",
               "the discrepancy and the noise passed. Few runs leave the emulator's length",
@@ -147,7 +146,7 @@ emulator_modes_hint <- function() {
 }
 
 #' @export
-print.koh_convergence <- function(x, digits = 3, ...) {
+print.bayesbem_convergence <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
   sp <- attr(x, "sampler")
   th <- attr(x, "thresholds")

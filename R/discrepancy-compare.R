@@ -10,7 +10,7 @@
 #' 2021). Densities are of the output in physical units, so fits with
 #' different simulation tables can be compared.
 #'
-#' @param x A `koh_fit`.
+#' @param x A `bayesbem_fit`.
 #' @param ndraws Number of posterior draws (evenly spaced); all by default.
 #' @param ... Unused.
 #' @return A `psis_loo` object from the loo package.
@@ -18,7 +18,7 @@
 #' @exportS3Method loo::loo
 #' @examples
 #' loo::loo(seb_fit, ndraws = 200)
-loo.koh_fit <- function(x, ndraws = NULL, ...) {
+loo.bayesbem_fit <- function(x, ndraws = NULL, ...) {
   rlang::check_dots_empty()
   ll <- loo_log_lik(x, ndraws)
   chains <- kept_chains(x)
@@ -42,7 +42,7 @@ loo_log_lik <- function(fit, ndraws = NULL) {
 #'
 #' Measures the gain of `b` (typically from [extend()]) over `a`:
 #' * `elpd`: the difference in expected log predictive density by exact
-#'   leave-one-out with PSIS ([loo.koh_fit()]), `b` minus `a`, with its
+#'   leave-one-out with PSIS ([loo.bayesbem_fit()]), `b` minus `a`, with its
 #'   standard error from the pointwise differences; a difference above two
 #'   standard errors is a clear gain. `pareto_k_max` is the largest Pareto
 #'   k of the two PSIS fits: above 0.7 the importance weights of some
@@ -57,7 +57,7 @@ loo_log_lik <- function(fit, ndraws = NULL) {
 #'   data, see [simulate_field()]), each parameter's posterior mean minus the
 #'   truth in both fits.
 #'
-#' @param a,b Two `koh_fit`s of the same field outputs.
+#' @param a,b Two `bayesbem_fit`s of the same field outputs.
 #' @param holdout Optional held-out data: a data frame with the field
 #'   output (the fits' output column name), the observable inputs, and any
 #'   covariates of the fits' discrepancy terms.
@@ -65,7 +65,7 @@ loo_log_lik <- function(fit, ndraws = NULL) {
 #'   parameters, physical units.
 #' @param ndraws Number of posterior draws for the leave-one-out and
 #'   prediction computations; all by default.
-#' @return An object of class `koh_comparison`: a list with `elpd` (a data
+#' @return An object of class `bayesbem_comparison`: a list with `elpd` (a data
 #'   frame with `elpd_a`, `elpd_b`, `diff`, `se`, `pareto_k_max`), `metrics`, `discrepancy`,
 #'   `bias` and the one-line `verdict`.
 #' @family discrepancy
@@ -77,8 +77,8 @@ loo_log_lik <- function(fit, ndraws = NULL) {
 #' compare_fits(seb_fit, ext, ndraws = 200)
 #' }
 compare_fits <- function(a, b, holdout = NULL, truth = NULL, ndraws = NULL) {
-  check_koh_fit(a)
-  check_koh_fit(b)
+  check_fit(a)
+  check_fit(b)
   y_a <- a$data$field[[a$data$names$y]]
   if (!identical(y_a, b$data$field[[b$data$names$y]])) {
     abort_bayesbem(c("{.arg a} and {.arg b} must be fits of the same field outputs.",
@@ -86,7 +86,7 @@ compare_fits <- function(a, b, holdout = NULL, truth = NULL, ndraws = NULL) {
                    "argument")
   }
   # loo's Pareto-k warnings are reported as pareto_k_max instead
-  loos <- lapply(list(a, b), function(fit) suppressWarnings(loo.koh_fit(fit, ndraws)))
+  loos <- lapply(list(a, b), function(fit) suppressWarnings(loo.bayesbem_fit(fit, ndraws)))
   pointwise <- vapply(loos, function(l) l$pointwise[, "elpd_loo"], numeric(length(y_a)))
   diff <- pointwise[, 2] - pointwise[, 1]
   elpd <- data.frame(elpd_a = sum(pointwise[, 1]), elpd_b = sum(pointwise[, 2]),
@@ -111,7 +111,7 @@ compare_fits <- function(a, b, holdout = NULL, truth = NULL, ndraws = NULL) {
     sprintf("No clear difference: ELPD difference %.1f (SE %.1f) is within two standard errors.",
             elpd$diff, elpd$se)
   }
-  structure(out, class = "koh_comparison")
+  structure(out, class = "bayesbem_comparison")
 }
 
 comparison_metrics <- function(a, b, holdout, ndraws, call = rlang::caller_env()) {
@@ -134,7 +134,7 @@ comparison_bias <- function(a, b, truth, call = rlang::caller_env()) {
 }
 
 #' @export
-print.koh_comparison <- function(x, digits = 3, ...) {
+print.bayesbem_comparison <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
   cat(x$verdict, "\n\n")
   for (part in c("elpd", "metrics", "discrepancy", "bias")) {

@@ -57,7 +57,7 @@
 #' happens in about `1 - alpha` of data sets (measured in
 #' `bench/bench-false-alarms.R`).
 
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param covariates Optional data frame with one row per field row (in the
 #'   field data's order) of further candidates.
 #' @param level Probability of the central interval of each share.
@@ -76,7 +76,7 @@
 #'   at all without regions. `FALSE` scores the candidates alone (faster:
 #'   7 terms instead of about 200 in the benchmark).
 #' @param seed Random seed of the null residuals.
-#' @return A data frame of class `koh_explanation`, the explaining candidates
+#' @return A data frame of class `bayesbem_explanation`, the explaining candidates
 #'   first, each group by `share`: `candidate`, `share`, `lower`, `upper`
 #'   (fractions), `z`, `p_value` (adjusted), `explains`; the verdict is in
 #'   `attr(, "verdict")`. Printing shows every candidate and the regions
@@ -88,7 +88,7 @@
 #' explain_discrepancy(seb_fit, working, ndraws = 100, n_null = 200, seed = 1)
 explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.05,
                                 n_null = 1000, ndraws = NULL, regions = TRUE, seed = NULL) {
-  check_koh_fit(fit)
+  check_fit(fit)
   check_count(n_null)
   check_probability(level)
   check_probability(alpha)
@@ -118,7 +118,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   out$explains <- out$p_value < alpha
   out <- out[order(!out$explains, -out$share), ]
   rownames(out) <- NULL
-  structure(out, class = c("koh_explanation", "data.frame"), level = level, alpha = alpha,
+  structure(out, class = c("bayesbem_explanation", "data.frame"), level = level, alpha = alpha,
             verdict = explanation_verdict(out, level))
 }
 
@@ -365,7 +365,7 @@ explanation_verdict <- function(x, level) {
 }
 
 #' @export
-print.koh_explanation <- function(x, digits = 3, ...) {
+print.bayesbem_explanation <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
   cat(attr(x, "verdict"), "\n\n")
   # every candidate, and of the regions those named and the next three

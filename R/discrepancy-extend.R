@@ -1,6 +1,6 @@
 #' Extend a calibration with the effect the simulator misses
 #'
-#' Refits a `koh_fit` with a named effect added, in one of two ways:
+#' Refits a `bayesbem_fit` with a named effect added, in one of two ways:
 #' * statistically (`with`): each named covariate enters the discrepancy as
 #'   a parametric term, `delta(x) + sum_k gamma_k w_k` (the mean functions
 #'   `h(x)' gamma` of Kennedy and O'Hagan), with its own coefficient and a
@@ -19,10 +19,10 @@
 #'   includes the mechanism, typically with a new calibration parameter.
 #'
 #' The other settings (priors, chains, iterations, seed, structure) are
-#' those of `fit` unless given in `...`. The result is a `koh_fit` like any
+#' those of `fit` unless given in `...`. The result is a `bayesbem_fit` like any
 #' other: compare it with the original with [compare_fits()].
 #'
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param with Names of the covariates to add as discrepancy terms: columns
 #'   of `covariates`, observable inputs of the fit, or regions of them as
 #'   [explain_discrepancy()] names them ("temp > 11.8",
@@ -36,7 +36,7 @@
 #'   position: `eta`, the fit's observable inputs, then the calibration
 #'   parameters).
 #' @param ... Arguments of [calibrate()] that replace the fit's.
-#' @return A `koh_fit`.
+#' @return A `bayesbem_fit`.
 #' @family discrepancy
 #' @export
 #' @examples
@@ -47,7 +47,7 @@
 #'                                                    variable = "gamma"))
 #' }
 extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
-  check_koh_fit(fit)
+  check_fit(fit)
   if (is.null(with) == is.null(sim)) {
     abort_bayesbem(c("Give either {.arg with} (covariate names) or {.arg sim} (a new simulation table).",
                      i = "{.arg with} adds statistical discrepancy terms; {.arg sim} a simulator with the missing mechanism."),
@@ -76,7 +76,7 @@ refit <- function(fit, ...) {
                emulator = if (isTRUE(settings$modular)) settings$emulator %||% "separable" else "auto",
                minor_modes = settings$minor_modes %||% "keep",
                covariates = fit$data$covariates)
-  # replaced whole, not merged: a new koh_data or priors is a list too
+  # replaced whole, not merged: a new bayesbem_data or priors is a list too
   changes <- list(...)
   args[names(changes)] <- changes
   do.call(calibrate, args)
@@ -151,9 +151,9 @@ check_columns_vary <- function(d, call = rlang::caller_env()) {
   check_varies(spread, names(d), "the field rows", call = call)
 }
 
-check_koh_fit <- function(fit, arg = rlang::caller_arg(fit), call = rlang::caller_env()) {
-  if (!inherits(fit, "koh_fit")) {
-    abort_bayesbem(c("{.arg {arg}} must be a {.cls koh_fit} from {.fn calibrate}.",
+check_fit <- function(fit, arg = rlang::caller_arg(fit), call = rlang::caller_env()) {
+  if (!inherits(fit, "bayesbem_fit")) {
+    abort_bayesbem(c("{.arg {arg}} must be a {.cls bayesbem_fit} from {.fn calibrate}.",
                      x = "It is {.obj_type_friendly {fit}}."),
                    "argument", call = call)
   }

@@ -36,13 +36,13 @@
 #' 0.5, and **learnt** below (the posterior is less than half as wide as the
 #' prior).
 #'
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param ndraws Number of posterior draws (evenly spaced) to compute the
 #'   sensitivities and projections at (the spreads use all draws).
 #' @param refit Also calibrate without the discrepancy (one more fit with the
 #'   fit's settings) and report `moved`.
 #' @param ... Unused.
-#' @return A data frame of class `koh_identifiability`: `parameter`,
+#' @return A data frame of class `bayesbem_identifiability`: `parameter`,
 #'   `prior_sd`, `posterior_sd` (physical units), `sd_ratio`, `shift`,
 #'   `alignment`, with `refit = TRUE` `moved`, and `verdict`; a plain-language summary in `attr(, "summary")`.
 #' @family discrepancy
@@ -51,7 +51,7 @@
 #' identifiability(seb_fit, ndraws = 50)
 identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
   rlang::check_dots_empty()
-  check_koh_fit(fit)
+  check_fit(fit)
   check_count(ndraws)
   check_bool(refit)
   data <- fit$data
@@ -79,7 +79,7 @@ identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
   out$verdict <- ifelse(confounded, "confounded with the discrepancy",
                         ifelse(out$sd_ratio > 0.8, "prior-driven",
                                ifelse(out$sd_ratio > 0.5, "partly learnt", "learnt")))
-  structure(out, class = c("koh_identifiability", "data.frame"),
+  structure(out, class = c("bayesbem_identifiability", "data.frame"),
             summary = identifiability_summary(out))
 }
 
@@ -143,16 +143,10 @@ identifiability_summary <- function(x) {
 }
 
 #' @export
-print.koh_identifiability <- function(x, digits = 3, ...) {
+print.bayesbem_identifiability <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
   cat(strwrap(attr(x, "summary")), sep = "\n")
   cat("\n")
   print_rounded(as.data.frame(unclass(x)), digits)
   invisible(x)
-}
-
-#' @export
-plot.koh_identifiability <- function(x, ...) {
-  rlang::check_dots_empty()
-  plot_identifiability(x)
 }

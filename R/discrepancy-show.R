@@ -23,13 +23,13 @@
 #' points with almost no use (gas in summer) do not get enormous or infinite
 #' shares.
 #'
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param newdata,obs Observable inputs and measured outputs to examine;
 #'   default: the field data the model was calibrated on.
 #' @param level Probability of the pointwise intervals and of the
 #'   simultaneous band.
 #' @param ndraws Number of posterior draws to use (all by default).
-#' @return A data frame of class `koh_discrepancy`, one row per point: the
+#' @return A data frame of class `bayesbem_discrepancy`, one row per point: the
 #'   inputs, `point`, `obs`, and for `delta` and `residual` the posterior
 #'   `mean`, pointwise `lower` and `upper` (physical units) and `share`
 #'   (mean, percent of `obs`, see Details), the residual's simultaneous band
@@ -65,7 +65,7 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
     row.names = NULL
   )
   out$flag <- out$band_lower > 0 | out$band_upper < 0
-  structure(out, class = c("koh_discrepancy", "data.frame"), level = level,
+  structure(out, class = c("bayesbem_discrepancy", "data.frame"), level = level,
             critical = band$critical, verdict = discrepancy_verdict(out, level))
 }
 
@@ -105,7 +105,7 @@ discrepancy_verdict <- function(d, level) {
 }
 
 #' @export
-print.koh_discrepancy <- function(x, digits = 3, ...) {
+print.bayesbem_discrepancy <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
   cat(attr(x, "verdict"), "\n\n")
   print_rounded(as.data.frame(unclass(x)), digits)
@@ -121,8 +121,8 @@ print.koh_discrepancy <- function(x, digits = 3, ...) {
 #' time order). Flagged points, where the band excludes zero, are drawn in
 #' red.
 #'
-#' @param x A `koh_discrepancy` from [discrepancy()].
-#' @return `plot_discrepancy()`: a ggplot. `plot_discrepancy_data()`: a data
+#' @param x A `bayesbem_discrepancy` from [discrepancy()].
+#' @return `plot_discrepancy()` (and `plot(x)`): a ggplot. `plot_discrepancy_data()`: a data
 #'   frame with `along` (the input, or `"point order"`), `position`, `point`,
 #'   `mean`, `lower`, `upper` (the band; percent of the output) and `flag`.
 #' @family discrepancy
@@ -147,10 +147,16 @@ plot_discrepancy <- function(x) {
     ggplot2::theme(legend.position = "bottom")
 }
 
+#' @export
+plot.bayesbem_discrepancy <- function(x, ...) {
+  rlang::check_dots_empty()
+  plot_discrepancy(x)
+}
+
 #' @rdname plot_discrepancy
 #' @export
 plot_discrepancy_data <- function(x) {
-  if (!inherits(x, "koh_discrepancy")) {
+  if (!inherits(x, "bayesbem_discrepancy")) {
     abort_bayesbem("{.arg x} must be made by {.fn discrepancy}.", "argument")
   }
   x_names <- setdiff(names(x), c("point", "obs", "flag",

@@ -1,10 +1,10 @@
-# The koh_fit object: its constructor, draws in the posterior package's
+# The bayesbem_fit object: its constructor, draws in the posterior package's
 # formats, the summary and the print methods.
 
-new_koh_fit <- function(stanfit, data, priors, settings, predict_at = NULL, emulator = NULL) {
+new_bayesbem_fit <- function(stanfit, data, priors, settings, predict_at = NULL, emulator = NULL) {
   structure(list(stanfit = stanfit, data = data, priors = priors, settings = settings,
                  predict_at = predict_at, emulator = emulator),
-            class = "koh_fit")
+            class = "bayesbem_fit")
 }
 
 #' Posterior draws of a KOH calibration in physical units
@@ -17,18 +17,18 @@ new_koh_fit <- function(stanfit, data, priors, settings, predict_at = NULL, emul
 #' mean (see [koh_priors()]) on the standardised output scale per unit of
 #' the scaled \[0, 1\] inputs.
 #'
-#' @param x A `koh_fit`.
+#' @param x A `bayesbem_fit`.
 #' @param ... Unused.
 #' @return A [posterior::draws_array].
 #' @family calibration
-#' @name as_draws.koh_fit
+#' @name as_draws.bayesbem_fit
 #' @examples
 #' posterior::summarise_draws(posterior::as_draws(seb_fit))
 NULL
 
-#' @rdname as_draws.koh_fit
+#' @rdname as_draws.bayesbem_fit
 #' @exportS3Method posterior::as_draws_array
-as_draws_array.koh_fit <- function(x, ...) {
+as_draws_array.bayesbem_fit <- function(x, ...) {
   rlang::check_dots_empty()
   d <- x$data
   h_names <- names(d$covariates)
@@ -67,16 +67,16 @@ mean_term_names <- function(priors, data) {
 
 # Draws (rows) of calibration parameters `names` in physical units.
 parameter_draws <- function(fit, names = fit$data$names$t) {
-  posterior::as_draws_matrix(as_draws_array.koh_fit(fit))[, names, drop = FALSE]
+  posterior::as_draws_matrix(as_draws_array.bayesbem_fit(fit))[, names, drop = FALSE]
 }
 
-#' @rdname as_draws.koh_fit
+#' @rdname as_draws.bayesbem_fit
 #' @exportS3Method posterior::as_draws
-as_draws.koh_fit <- function(x, ...) as_draws_array.koh_fit(x, ...)
+as_draws.bayesbem_fit <- function(x, ...) as_draws_array.bayesbem_fit(x, ...)
 
-#' @rdname as_draws.koh_fit
+#' @rdname as_draws.bayesbem_fit
 #' @exportS3Method posterior::as_draws_df
-as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.koh_fit(x, ...))
+as_draws_df.bayesbem_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.bayesbem_fit(x, ...))
 
 #' Summarise a KOH calibration
 #'
@@ -85,9 +85,9 @@ as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.ko
 #' quantiles, rank-normalised R-hat, bulk and tail effective sample sizes
 #' (all from the posterior package).
 #'
-#' @param object,x A `koh_fit`, or for `print()` its summary.
+#' @param object,x A `bayesbem_fit`, or for `print()` its summary.
 #' @param ... Unused.
-#' @return `summary()` returns an object of class `summary.koh_fit`: a list
+#' @return `summary()` returns an object of class `summary.bayesbem_fit`: a list
 #'   with data frames `parameters` and `hyperparameters` (row names: the
 #'   variables), for a modular fit `emulator` (the emulator's
 #'   hyperparameters, fixed at their stage-1 mode: column `value`) and
@@ -102,7 +102,7 @@ as_draws_df.koh_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.ko
 #' @examples
 #' summary(seb_fit)$parameters
 #' seb_fit
-summary.koh_fit <- function(object, ...) {
+summary.bayesbem_fit <- function(object, ...) {
   rlang::check_dots_empty()
   s <- summarise_fit(
     object, mean = mean, sd = stats::sd,
@@ -124,7 +124,7 @@ summary.koh_fit <- function(object, ...) {
          data = object$data[c("n", "m", "p", "q")],
          settings = object$settings,
          sampler = fit_sampler_diagnostics(object)),
-    class = "summary.koh_fit"
+    class = "summary.bayesbem_fit"
   )
 }
 
@@ -142,7 +142,7 @@ basis_summary <- function(basis) {
 # fit's emulator hyperparameters are constant (its stage-1 mode): sd 0,
 # R-hat and ESS NA.
 summarise_fit <- function(fit, ...) {
-  draws <- as_draws_array.koh_fit(fit)
+  draws <- as_draws_array.bayesbem_fit(fit)
   draws <- posterior::subset_draws(draws, variable = setdiff(posterior::variables(draws), "lp__"))
   summarise_quietly(draws, list(...))
 }
@@ -160,9 +160,9 @@ summarise_quietly <- function(draws, measures) {
   as.data.frame(lapply(s, function(col) as.vector(unclass(col))))
 }
 
-#' @rdname summary.koh_fit
+#' @rdname summary.bayesbem_fit
 #' @export
-print.summary.koh_fit <- function(x, ...) {
+print.summary.bayesbem_fit <- function(x, ...) {
   rlang::check_dots_empty()
   st <- x$settings
   cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters (%s likelihood%s)\n",
@@ -215,9 +215,9 @@ sd_decimals <- function(sd) {
   as.integer(pmin(pmax(d, 0), 10))
 }
 
-#' @rdname summary.koh_fit
+#' @rdname summary.bayesbem_fit
 #' @export
-print.koh_fit <- function(x, ...) {
+print.bayesbem_fit <- function(x, ...) {
   rlang::check_dots_empty()
   print(summary(x))
   invisible(x)

@@ -37,7 +37,7 @@
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
 #'   paper's Appendix D; about twice as slow). Read them with
-#'   `predict(fit, method = "sampled")`. [predict.koh_fit()] gives the same
+#'   `predict(fit, method = "sampled")`. [predict.bayesbem_fit()] gives the same
 #'   predictions by exact conditioning after the fit, for any inputs.
 #' @param structure Which Stan program computes the likelihood: `"grid"`
 #'   (`koh_grid.stan`) when every simulation run was made at every field
@@ -138,7 +138,7 @@
 #'   `options(bayesbem.lapack = TRUE)` or `FALSE` overrides the choice, and
 #'   `fit$settings$lapack` records it: the two give the same log density to
 #'   rounding, but a seeded fit repeats exactly only with the same choice.
-#' @return An object of class `koh_fit`: the `stanfit`, the [koh_data()]
+#' @return An object of class `bayesbem_fit`: the `stanfit`, the [koh_data()]
 #'   (with its scaling), the priors and the sampler settings. Use `print()`,
 #'   `summary()` and [posterior::as_draws()] on it.
 #' @family calibration
@@ -203,7 +203,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                    if (chains > 1L) "s" else "")
   stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label, keep_moved = modular),
                                       sampler))
-  fit <- new_koh_fit(stanfit, data = data, priors = priors,
+  fit <- new_bayesbem_fit(stanfit, data = data, priors = priors,
                      settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                                      control = control, structure = structure, modular = modular,
                                      emulator = emulator_type,

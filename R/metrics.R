@@ -88,7 +88,7 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #' for daily or weekly data; `by = "day"` or `"week"` applies the hourly ones,
 #' the limits the Guideline gives for data finer than monthly.
 #'
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param newdata Held-out periods: a data frame of observable inputs (the
 #'   field inputs' columns; predicted through the emulator), or a
 #'   [scenario()] or simulator for them (predicted through the simulator,
@@ -103,7 +103,7 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #' @param ndraws Number of posterior draws to use (all by default through
 #'   the emulator; 40 through a simulator).
 #' @param cache_dir Optional directory for cached simulator runs.
-#' @return A data frame (class `koh_metrics`, printed with 2 decimals) with
+#' @return A data frame (class `bayesbem_metrics`, printed with 2 decimals) with
 #'   one row per data set (`set`: `training`, `held-out`) and `prediction`
 #'   (`simulator`, `calibrated`): `route` (`emulator` or `simulator`), `n`,
 #'   `cvrmse`, `nmbe` (percent) and `calibrated` (within the limits).
@@ -138,7 +138,7 @@ calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                  cvrmse = cv, nmbe = nb, calibrated = cv <= limits[1] && abs(nb) <= limits[2])
     }))
   })
-  structure(do.call(rbind, rows), class = c("koh_metrics", "data.frame"))
+  structure(do.call(rbind, rows), class = c("bayesbem_metrics", "data.frame"))
 }
 
 # Posterior means of the simulator part and of the calibrated prediction at
@@ -181,7 +181,7 @@ emulator_predictions <- function(fit, x, obs, ndraws) {
 }
 
 #' @export
-print.koh_metrics <- function(x, ...) {
+print.bayesbem_metrics <- function(x, ...) {
   rlang::check_dots_empty()
   out <- as.data.frame(unclass(x))
   for (col in intersect(c("cvrmse", "nmbe"), names(out))) {
@@ -189,4 +189,19 @@ print.koh_metrics <- function(x, ...) {
   }
   print(out, row.names = FALSE, right = TRUE)
   invisible(x)
+}
+
+# The periods with a measurement: `measured` has one value per period of a
+# simulator (`n`), NA where there is none (avoided_energy(), held-out
+# periods of calibration_metrics()).
+measured_periods <- function(measured, n, arg = rlang::caller_arg(measured),
+                             call = rlang::caller_env()) {
+  if (!is.numeric(measured) || length(measured) != n || any(is.infinite(measured)) ||
+      all(is.na(measured))) {
+    abort_bayesbem(c("{.arg {arg}} must hold one number per period ({n}).",
+                     x = "It is {describe_value(measured)} of length {length(measured)}.",
+                     i = "Give NA for a period without a measurement."),
+                   "argument", call = call)
+  }
+  which(!is.na(measured))
 }

@@ -5,9 +5,9 @@
 #' parameters (bar) and the simulator's real output there (point; red when
 #' outside the interval). See [validate_emulator()].
 #'
-#' @param x A `koh_emulator_check` from [validate_emulator()].
+#' @param x A `bayesbem_emulator_check` from [validate_emulator()].
 #' @param check Deprecated; use `x`.
-#' @return `plot_emulator_check()`: a ggplot. `plot_emulator_check_data()`:
+#' @return `plot_emulator_check()` (and `plot(x)`): a ggplot. `plot_emulator_check_data()`:
 #'   the check's table with `position`, the period offset by draw.
 #' @family plots
 #' @family diagnostics
@@ -33,11 +33,17 @@ plot_emulator_check <- function(x, check = deprecated()) {
     ggplot2::theme_bw()
 }
 
+#' @export
+plot.bayesbem_emulator_check <- function(x, ...) {
+  rlang::check_dots_empty()
+  plot_emulator_check(x)
+}
+
 #' @rdname plot_emulator_check
 #' @export
 plot_emulator_check_data <- function(x, check = deprecated()) {
   check <- renamed_first(x, check, "plot_emulator_check_data", "check")
-  if (!inherits(check, "koh_emulator_check")) {
+  if (!inherits(check, "bayesbem_emulator_check")) {
     abort_bayesbem("{.arg check} must come from {.fn validate_emulator}, not {describe_value(check)}.",
                    "argument")
   }

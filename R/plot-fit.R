@@ -5,7 +5,7 @@
 #' calibrated predictions against the measured data, and the paper's
 #' three-panel comparison of `eta + delta`, `eta` and `delta / y`.
 #'
-#' @param x A `koh_fit`.
+#' @param x A `bayesbem_fit`.
 #' @param type One of `"posteriors"` ([plot_posteriors()]), `"trace"`
 #'   ([plot_trace()]), `"predictions"` ([plot_predictions()]) or
 #'   `"components"` ([plot_components()]).
@@ -16,7 +16,7 @@
 #' @examples
 #' plot(seb_fit)
 #' plot(seb_fit, type = "trace")
-plot.koh_fit <- function(x, type = c("posteriors", "trace", "predictions", "components"), ...) {
+plot.bayesbem_fit <- function(x, type = c("posteriors", "trace", "predictions", "components"), ...) {
   type <- match_choice(type)
   plotter <- switch(type, posteriors = plot_posteriors, trace = plot_trace,
                     predictions = plot_predictions, components = plot_components)

@@ -6,8 +6,8 @@
 #' scale), coloured by verdict; dashed lines mark the verdicts' thresholds
 #' (0.5 and 0.8 on x, 2 on y).
 #'
-#' @param x A `koh_identifiability` from [identifiability()].
-#' @return `plot_identifiability()`: a ggplot. `plot_identifiability_data()`:
+#' @param x A `bayesbem_identifiability` from [identifiability()].
+#' @return `plot_identifiability()` (and `plot(x)`): a ggplot. `plot_identifiability_data()`:
 #'   the table with `abs_shift`, `|shift|` floored at 0.01 for the log axis.
 #' @family plots
 #' @family discrepancy
@@ -33,10 +33,16 @@ plot_identifiability <- function(x) {
     ggplot2::theme(legend.position = "bottom")
 }
 
+#' @export
+plot.bayesbem_identifiability <- function(x, ...) {
+  rlang::check_dots_empty()
+  plot_identifiability(x)
+}
+
 #' @rdname plot_identifiability
 #' @export
 plot_identifiability_data <- function(x) {
-  if (!inherits(x, "koh_identifiability")) {
+  if (!inherits(x, "bayesbem_identifiability")) {
     abort_bayesbem("{.arg x} must come from {.fn identifiability}, not {describe_value(x)}.",
                    "argument")
   }

@@ -4,7 +4,7 @@
 #' its physical units, with the prior density overlaid (flat, or the
 #' truncated normal of an informative prior), over the design range.
 #'
-#' @param x A `koh_fit`.
+#' @param x A `bayesbem_fit`.
 #' @param fit Deprecated; use `x`.
 #' @param n_grid Number of points at which densities are evaluated.
 #' @return `plot_posteriors()`: a ggplot. `plot_posteriors_data()`: a data

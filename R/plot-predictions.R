@@ -5,7 +5,7 @@
 #' each point, with the measured values as points, one panel per observable
 #' input (the paper's Listing 1 loop).
 #'
-#' @param x A `koh_fit`.
+#' @param x A `bayesbem_fit`.
 #' @param fit Deprecated; use `x`.
 #' @param newdata Observable inputs to predict at (default: the field
 #'   inputs).

@@ -4,9 +4,9 @@
 #' paired posterior draws of a retrofit's savings in each period
 #' ([savings()]), with the total and its 90 % interval in the subtitle.
 #'
-#' @param x A `koh_savings`.
+#' @param x A `bayesbem_savings`.
 #' @param ... Unused.
-#' @return `plot_savings()`: a ggplot. `plot_savings_data()`: a data frame
+#' @return `plot_savings()` (and `plot(x)`): a ggplot. `plot_savings_data()`: a data frame
 #'   with one row per period: `period`, the box statistics `q5`, `q25`,
 #'   `q50`, `q75`, `q95`, and `mean`; its attribute `total` holds the
 #'   total's `mean`, `q5` and `q95`.
@@ -37,11 +37,14 @@ plot_savings <- function(x, ...) {
     ggplot2::theme_bw()
 }
 
+#' @export
+plot.bayesbem_savings <- function(x, ...) plot_savings(x, ...)
+
 #' @rdname plot_savings
 #' @export
 plot_savings_data <- function(x, ...) {
   rlang::check_dots_empty()
-  if (!inherits(x, "koh_savings")) {
+  if (!inherits(x, "bayesbem_savings")) {
     abort_bayesbem("{.arg x} must be savings from {.fn savings}, not {describe_value(x)}.",
                    "argument")
   }

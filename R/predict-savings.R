@@ -20,7 +20,7 @@
 #'
 #' Savings are of the expected use (no observation noise).
 #'
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param baseline,retrofit [scenario()]s (or simulators) over the same
 #'   periods.
 #' @param ndraws Number of posterior draws (evenly spaced).
@@ -29,7 +29,7 @@
 #' @param cache_dir Optional directory for cached runs, see
 #'   [simulate_design()].
 #' @param ... Unused.
-#' @return A `koh_savings`: a list with the draws-by-periods matrices
+#' @return A `bayesbem_savings`: a list with the draws-by-periods matrices
 #'   `baseline`, `retrofit` and `savings`, `inputs`, `draw`, the scenarios
 #'   and `discrepancy`. `summary(x, level)` gives per period and in total
 #'   the means of baseline and retrofit, the savings' mean, sd and
@@ -47,7 +47,7 @@
 savings <- function(fit, baseline, retrofit, ndraws = 40,
                     discrepancy = c("same", "proportional", "none"), cache_dir = NULL, ...) {
   rlang::check_dots_empty()
-  check_koh_fit(fit)
+  check_fit(fit)
   baseline <- as_scenario(baseline)
   retrofit <- as_scenario(retrofit)
   discrepancy <- match_choice(discrepancy)
@@ -64,11 +64,11 @@ savings <- function(fit, baseline, retrofit, ndraws = 40,
                  inputs = baseline$simulator$x, draw = runs$index,
                  scenarios = list(baseline = baseline, retrofit = retrofit),
                  discrepancy = discrepancy),
-            class = "koh_savings")
+            class = "bayesbem_savings")
 }
 
 #' @export
-summary.koh_savings <- function(object, level = 0.9, ...) {
+summary.bayesbem_savings <- function(object, level = 0.9, ...) {
   rlang::check_dots_empty()
   check_probability(level)
   saved <- with_total(object$savings)
@@ -81,7 +81,7 @@ summary.koh_savings <- function(object, level = 0.9, ...) {
 }
 
 #' @export
-print.koh_savings <- function(x, level = 0.9, ...) {
+print.bayesbem_savings <- function(x, level = 0.9, ...) {
   rlang::check_dots_empty()
   s <- summary(x, level)
   t <- s[nrow(s), ]
@@ -89,7 +89,7 @@ print.koh_savings <- function(x, level = 0.9, ...) {
                        same = "unchanged by the retrofit (it cancels from the savings)",
                        proportional = "scaled with the simulated use",
                        none = "left out")
-  cat_lines("{.cls koh_savings}: {x$scenarios$retrofit$name} against {x$scenarios$baseline$name}",
+  cat_lines("{.cls bayesbem_savings}: {x$scenarios$retrofit$name} against {x$scenarios$baseline$name}",
             "* {x$scenarios$baseline$simulator$name}, {ncol(x$savings)} period{?s}, {nrow(x$savings)} paired posterior draw{?s}",
             "* discrepancy: {assumption}",
             "* total savings {signif(t$savings, 3)} ({round(100 * level)} % interval {signif(t$lower, 3)} to {signif(t$upper, 3)}), {round(t$percent, 1)} % of the baseline",
@@ -143,7 +143,7 @@ interval_probs <- function(level) c((1 - level) / 2, 1 - (1 - level) / 2)
 #' in-sample, so where the discrepancy fits the training bills closely it
 #' understates the uncertainty of a prediction for another year.
 #'
-#' @param fit A `koh_fit` of the pre-retrofit period.
+#' @param fit A `bayesbem_fit` of the pre-retrofit period.
 #' @param reporting A [scenario()] (or simulator) of the reporting period:
 #'   its weather, the pre-retrofit model.
 #' @param measured Measured use in each reporting period (numeric, one per
@@ -154,7 +154,7 @@ interval_probs <- function(level) c((1 - level) / 2, 1 - (1 - level) / 2)
 #' @param level Level of the intervals.
 #' @param cache_dir Optional directory for cached runs.
 #' @param ... Unused.
-#' @return A `koh_avoided_energy`: a list with `table` (per period and
+#' @return A `bayesbem_avoided_energy`: a list with `table` (per period and
 #'   total: `adjusted_baseline`, `measured`, `avoided`, its `sd`, `lower`
 #'   and `upper`), `fsu` (the Bayesian one and Guideline 14's), `draws` (the
 #'   adjusted baseline's draws) and `level`.
@@ -169,7 +169,7 @@ interval_probs <- function(level) c((1 - level) / 2, 1 - (1 - level) / 2)
 avoided_energy <- function(fit, reporting, measured, ndraws = 40, level = 0.9,
                            cache_dir = NULL, ...) {
   rlang::check_dots_empty()
-  check_koh_fit(fit)
+  check_fit(fit)
   reporting <- as_scenario(reporting)
   check_probability(level)
   keep <- measured_periods(measured, nrow(reporting$simulator$x))
@@ -193,22 +193,7 @@ avoided_energy <- function(fit, reporting, measured, ndraws = 40, level = 0.9,
   )
   structure(list(table = table, fsu = fsu, draws = adjusted, level = level,
                  scenario = reporting),
-            class = "koh_avoided_energy")
-}
-
-# The periods with a measurement: `measured` has one value per period of a
-# simulator (`n`), NA where there is none (avoided_energy(), held-out
-# periods of calibration_metrics()).
-measured_periods <- function(measured, n, arg = rlang::caller_arg(measured),
-                             call = rlang::caller_env()) {
-  if (!is.numeric(measured) || length(measured) != n || any(is.infinite(measured)) ||
-      all(is.na(measured))) {
-    abort_bayesbem(c("{.arg {arg}} must hold one number per period ({n}).",
-                     x = "It is {describe_value(measured)} of length {length(measured)}.",
-                     i = "Give NA for a period without a measurement."),
-                   "argument", call = call)
-  }
-  which(!is.na(measured))
+            class = "bayesbem_avoided_energy")
 }
 
 # Guideline 14's fractional savings uncertainty (Annex B):
@@ -227,10 +212,10 @@ guideline14_fsu <- function(fit, m, fraction, level) {
 }
 
 #' @export
-print.koh_avoided_energy <- function(x, ...) {
+print.bayesbem_avoided_energy <- function(x, ...) {
   rlang::check_dots_empty()
   t <- x$table[nrow(x$table), ]
-  cat_lines("{.cls koh_avoided_energy}: {x$scenario$simulator$name}",
+  cat_lines("{.cls bayesbem_avoided_energy}: {x$scenario$simulator$name}",
             "* avoided energy use {signif(t$avoided, 3)} ({round(100 * x$level)} % interval {signif(t$lower, 3)} to {signif(t$upper, 3)}) over {nrow(x$table) - 1} measured period{?s} of {nrow(x$scenario$simulator$x)}",
             "* fractional savings uncertainty: {round(100 * x$fsu$fsu[1], 1)} % (Guideline 14's formula: {round(100 * x$fsu$fsu[2], 1)} %)",
             "")

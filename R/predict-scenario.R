@@ -119,16 +119,16 @@ check_scenario_range <- function(simulator, design, what, call = rlang::caller_e
 #' temperature). Each draw's prediction is the simulator's output `s` plus
 #' the discrepancy at the scenario's inputs, drawn from its conditional
 #' given the data and `eta = s` there under that draw's hyperparameters
-#' (so at the field inputs the simulator route and [predict.koh_fit()]
+#' (so at the field inputs the simulator route and [predict.bayesbem_fit()]
 #' agree where the emulator is right), plus, with `noise = TRUE`, the
 #' observation noise (a predicted bill rather than the expected use).
 #' Outside the weather the model was calibrated on the discrepancy reverts
 #' to its mean, with a warning of class `bayesbem_warning_extrapolation`.
 #'
-#' Without a simulator for the new period, [predict.koh_fit()] predicts at
+#' Without a simulator for the new period, [predict.bayesbem_fit()] predicts at
 #' new inputs through the emulator, with its extrapolation warning.
 #'
-#' @param fit A `koh_fit`.
+#' @param fit A `bayesbem_fit`.
 #' @param scenario A [scenario()], or a simulator (the scenario with no
 #'   change).
 #' @param ndraws Number of posterior draws (evenly spaced) to run the
@@ -140,7 +140,7 @@ check_scenario_range <- function(simulator, design, what, call = rlang::caller_e
 #' @param cache_dir Optional directory for cached runs, see
 #'   [simulate_design()].
 #' @param ... Unused.
-#' @return A `koh_scenario_prediction`: a list with `y` (draws by periods:
+#' @return A `bayesbem_scenario_prediction`: a list with `y` (draws by periods:
 #'   the prediction), `simulated` (the simulator's outputs) and `delta`
 #'   (the discrepancy; zero without it), `inputs` (the scenario's
 #'   observable inputs), `draw` (the posterior draws' indices) and
@@ -159,7 +159,7 @@ check_scenario_range <- function(simulator, design, what, call = rlang::caller_e
 predict_scenario <- function(fit, scenario, ndraws = 40, discrepancy = TRUE, noise = TRUE,
                              covariates = NULL, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
-  check_koh_fit(fit)
+  check_fit(fit)
   scenario <- as_scenario(scenario)
   check_bool(discrepancy)
   check_bool(noise)
@@ -172,20 +172,20 @@ predict_scenario <- function(fit, scenario, ndraws = 40, discrepancy = TRUE, noi
   structure(list(y = y, simulated = simulated, delta = delta, inputs = scenario$simulator$x,
                  draw = runs$index, scenario = scenario, discrepancy = discrepancy,
                  noise = noise),
-            class = "koh_scenario_prediction")
+            class = "bayesbem_scenario_prediction")
 }
 
 #' @export
-summary.koh_scenario_prediction <- function(object, probs = c(0.05, 0.5, 0.95), ...) {
+summary.bayesbem_scenario_prediction <- function(object, probs = c(0.05, 0.5, 0.95), ...) {
   rlang::check_dots_empty()
   draws_with_total(object$y, object$inputs, probs)
 }
 
 #' @export
-print.koh_scenario_prediction <- function(x, ...) {
+print.bayesbem_scenario_prediction <- function(x, ...) {
   rlang::check_dots_empty()
   parts <- c("the simulator", if (x$discrepancy) "the discrepancy", if (x$noise) "noise")
-  cat_lines("{.cls koh_scenario_prediction}: {x$scenario$name}",
+  cat_lines("{.cls bayesbem_scenario_prediction}: {x$scenario$name}",
             "* {x$scenario$simulator$name}, {ncol(x$y)} period{?s}",
             "* {nrow(x$y)} posterior draw{?s}: {and_list(parts)}", "")
   print_rounded(summary(x), 4)

@@ -23,7 +23,7 @@
 #' returned (the paper's Appendix D): they exist only for the inputs given to
 #' [calibrate()] as `predict_at`, and include observation noise.
 #'
-#' @param object A `koh_fit`.
+#' @param object A `bayesbem_fit`.
 #' @param newdata A data frame with the observable inputs (the field inputs'
 #'   column names), and the covariates of any discrepancy terms (see
 #'   [extend()]); defaults to the field inputs. Inputs outside the range
@@ -45,7 +45,7 @@
 #' predict(seb_fit, ndraws = 100)
 #' predict(seb_fit, type = "delta", ndraws = 100)
 #' predict(seb_fit, data.frame(temp = 15, rh = 45, solar = 250), type = "eta", ndraws = 100)
-predict.koh_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"),
+predict.bayesbem_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"),
                             ndraws = NULL, summary = TRUE, noise = FALSE,
                             method = c("conditional", "sampled"),
                             probs = c(0.05, 0.5, 0.95), ...) {

@@ -61,7 +61,7 @@
 #'   [calibrate()], `structure`). Not part of the paper's model; the default
 #'   `1e-6` changes no result that matters. Raise it (e.g. to `1e-4`) if a
 #'   fit reports a covariance that is not positive definite.
-#' @return An object of class `koh_priors`.
+#' @return An object of class `bayesbem_priors`.
 #' @family priors
 #' @export
 #' @examples
@@ -96,7 +96,7 @@ koh_priors <- function(tf = list(), set = c("paper", "scaled"), rho_eta = c(1, 0
   structure(c(list(tf = tf, set = set), hyper,
               list(gamma_sd = gamma_sd, emulator_mean = emulator_mean, mean_sd = mean_sd,
                    nugget = nugget)),
-            class = "koh_priors")
+            class = "bayesbem_priors")
 }
 
 #' Priors for one calibration parameter
@@ -179,12 +179,12 @@ prior_level <- function(level = c("flat", "weak", "specific"), mu = NULL) {
 }
 
 #' @export
-print.koh_priors <- function(x, ...) {
+print.bayesbem_priors <- function(x, ...) {
   rlang::check_dots_empty()
   tf <- if (length(x$tf) == 0L) "U(0, 1) for every parameter" else
     paste(paste(names(x$tf), vapply(x$tf, format, character(1)), sep = ": ", collapse = "; "),
           "(others U(0, 1))")
-  cat_lines("{.cls koh_priors}",
+  cat_lines("{.cls bayesbem_priors}",
             "* tf: {tf}",
             "* rho_eta ~ Beta({x$rho_eta[1]}, {x$rho_eta[2]}), rho_delta ~ Beta({x$rho_delta[1]}, {x$rho_delta[2]})",
             "* lambda_eta ~ Gamma({x$lambda_eta[1]}, {x$lambda_eta[2]}{if (prior_set_of(x) == \"scaled\") \" v\" else \"\"}), lambda_delta ~ Gamma({x$lambda_delta[1]}, {x$lambda_delta[2]}), lambda_e ~ Gamma({x$lambda_e[1]}, {x$lambda_e[2]})",
@@ -307,7 +307,7 @@ koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
 }
 
 check_priors <- function(priors, call = rlang::caller_env()) {
-  if (!inherits(priors, "koh_priors")) {
+  if (!inherits(priors, "bayesbem_priors")) {
     abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
                      x = "It is {.obj_type_friendly {priors}}."),
                    "prior", call = call)

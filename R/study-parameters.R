@@ -37,8 +37,8 @@
 #' @param ndraws Number of posterior draws used for the metrics.
 #' @param ... Further arguments to [calibrate()], e.g. `chains`, `iter`,
 #'   `cores`.
-#' @return An object of class `koh_parameter_study`: a list with `fits` (a
-#'   `koh_fit` per `k`, named `"k = 2"`, ...; printing and plotting do not
+#' @return An object of class `bayesbem_parameter_study`: a list with `fits` (a
+#'   `bayesbem_fit` per `k`, named `"k = 2"`, ...; printing and plotting do not
 #'   need them, set to `NULL` to store a small study), `k`, `ranking`,
 #'   `posteriors` (one row per `k`
 #'   and parameter: `mean`, `sd`, quantiles `q5` to `q95` in physical
@@ -63,7 +63,7 @@ study_parameters <- function(field, sim = NULL, ranking = NULL, k = 2:6, n_runs 
       params <- sim$parameters[match(ranking[seq_len(kk)], sim$parameters$parameter), ]
       simulate_design(sim, design_lhs(params, n = n_runs, seed = seed))
     })
-    if (inherits(field, "koh_data")) field <- field_table(field)
+    if (inherits(field, "bayesbem_data")) field <- field_table(field)
     datasets <- lapply(tables, function(runs) koh_data(field, runs))
   } else {
     data <- as_koh_data(field, sim)
@@ -85,7 +85,7 @@ study_parameters <- function(field, sim = NULL, ranking = NULL, k = 2:6, n_runs 
   structure(list(fits = fits, k = k, ranking = ranking,
                  posteriors = study_posteriors(fits, "k"),
                  metrics = study_metrics(fits, "k", holdout, ndraws)),
-            class = "koh_parameter_study")
+            class = "bayesbem_parameter_study")
 }
 
 # The ranked parameter names, checked against those available and `k`.
@@ -115,9 +115,9 @@ study_ranking <- function(ranking, available, k, call = rlang::caller_env()) {
 }
 
 #' @export
-print.koh_parameter_study <- function(x, digits = 3, ...) {
+print.bayesbem_parameter_study <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
-  print_study(x, "k", "{.cls koh_parameter_study}: top k = {x$k} of {.field {x$ranking}}", digits)
+  print_study(x, "k", "{.cls bayesbem_parameter_study}: top k = {x$k} of {.field {x$ranking}}", digits)
 }
 
 #' Plot a parameter study
@@ -126,9 +126,9 @@ print.koh_parameter_study <- function(x, digits = 3, ...) {
 #' posterior (whiskers 5-95 %, box 25-75 %, line at the median) for each
 #' number of calibrated parameters `k`, in physical units.
 #'
-#' @param x A `koh_parameter_study` from [study_parameters()].
+#' @param x A `bayesbem_parameter_study` from [study_parameters()].
 #' @param ... Unused.
-#' @return `plot_parameter_study()`: a ggplot. `plot_parameter_study_data()`:
+#' @return `plot_parameter_study()` (and `plot(x)`): a ggplot. `plot_parameter_study_data()`:
 #'   the data frame it draws, `x$posteriors` with `k` as a factor and
 #'   parameters in ranking order.
 #' @family studies
@@ -152,7 +152,7 @@ plot_parameter_study <- function(x) {
 #' @rdname plot_parameter_study
 #' @export
 plot_parameter_study_data <- function(x) {
-  check_study(x, "koh_parameter_study")
+  check_study(x, "bayesbem_parameter_study")
   d <- x$posteriors
   d$k <- factor(d$k, levels = paste("k =", x$k), labels = x$k)
   d$parameter <- factor(d$parameter, levels = x$ranking[x$ranking %in% d$parameter])
@@ -161,7 +161,7 @@ plot_parameter_study_data <- function(x) {
 
 #' @rdname plot_parameter_study
 #' @export
-plot.koh_parameter_study <- function(x, ...) {
+plot.bayesbem_parameter_study <- function(x, ...) {
   rlang::check_dots_empty()
   plot_parameter_study(x)
 }

@@ -31,8 +31,8 @@
 #'   default).
 #' @param ... Further arguments to [calibrate()], e.g. `chains`, `iter`,
 #'   `cores`.
-#' @return An object of class `koh_prior_study`: a list with `fits` (the
-#'   `koh_fit` of each level), `levels`, `posteriors` (one row per level
+#' @return An object of class `bayesbem_prior_study`: a list with `fits` (the
+#'   `bayesbem_fit` of each level), `levels`, `posteriors` (one row per level
 #'   and parameter: `mean`, `sd`, quantiles `q5` to `q95` in physical units
 #'   and `scaled`, the median on \[0, 1\]), `metrics` (one row per level
 #'   and data set: `n`, `cvrmse`, `nmbe`, `calibrated`) and `densities` (the
@@ -73,7 +73,7 @@ study_priors <- function(field, sim = NULL, levels = c("flat", "weak", "specific
   structure(list(fits = fits, levels = levels, posteriors = study_posteriors(fits, "level"),
                  metrics = study_metrics(fits, "level", holdout, ndraws),
                  densities = prior_study_densities(fits)),
-            class = "koh_prior_study")
+            class = "bayesbem_prior_study")
 }
 
 # Each level's posterior densities (see plot_posteriors_data()).
@@ -89,10 +89,10 @@ prior_study_densities <- function(fits) {
 }
 
 #' @export
-print.koh_prior_study <- function(x, digits = 3, ...) {
+print.bayesbem_prior_study <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
   print_study(x, "level",
-              "{.cls koh_prior_study}: {length(x$levels)} prior level{?s} ({.val {x$levels}})", digits)
+              "{.cls bayesbem_prior_study}: {length(x$levels)} prior level{?s} ({.val {x$levels}})", digits)
 }
 
 #' Plot a prior study
@@ -100,9 +100,9 @@ print.koh_prior_study <- function(x, digits = 3, ...) {
 #' The paper's Fig 5: for each calibration parameter, its posterior density
 #' under each prior level, in physical units over the design range.
 #'
-#' @param x A `koh_prior_study` from [study_priors()].
+#' @param x A `bayesbem_prior_study` from [study_priors()].
 #' @param ... Unused.
-#' @return `plot_prior_study()`: a ggplot. `plot_prior_study_data()`: a data
+#' @return `plot_prior_study()` (and `plot(x)`): a ggplot. `plot_prior_study_data()`: a data
 #'   frame with columns `level`, `parameter`, `value` and `density` (the
 #'   posteriors; see [plot_posteriors_data()]).
 #' @family studies
@@ -131,13 +131,13 @@ plot_prior_study <- function(x) {
 #' @rdname plot_prior_study
 #' @export
 plot_prior_study_data <- function(x) {
-  check_study(x, "koh_prior_study")
+  check_study(x, "bayesbem_prior_study")
   x$densities
 }
 
 #' @rdname plot_prior_study
 #' @export
-plot.koh_prior_study <- function(x, ...) {
+plot.bayesbem_prior_study <- function(x, ...) {
   rlang::check_dots_empty()
   plot_prior_study(x)
 }

@@ -1,12 +1,11 @@
 # Which library factors the n x n field covariance in the grid and modular
 # Stan programs (normal_two_kernels_lpdf(), inst/include/normal_two_kernels.hpp):
 # R's LAPACK or Eigen. The factor and inverse are the largest part of a
-# gradient at large n (1.5 of 2.1 ms at n = 365 on OpenBLAS). R's LAPACK
-# runs on the BLAS R is linked to: with an optimised one (OpenBLAS, MKL,
-# BLIS, ATLAS, Apple's Accelerate) the stage-2 gradient at n = 365 takes
-# 2.1 ms against Eigen's 4.3-5.1; with the reference BLAS, which R ships by
-# default, 15-16 ms against Eigen's 4.5 (bench/RESULTS.md). The choice is made
-# from R's BLAS, not timed, so that a seeded fit is repeatable on a machine.
+# gradient at large n, and R's LAPACK runs on the BLAS R is linked to:
+# faster than Eigen on an optimised one (OpenBLAS, MKL, BLIS, ATLAS, Apple's
+# Accelerate), slower on the reference BLAS R ships by default
+# (bench/RESULTS.md, "Gradient cost"). The choice is made from R's BLAS,
+# not timed, so that a seeded fit is repeatable on a machine.
 # The option `bayesbem.lapack` (TRUE or FALSE) overrides it.
 use_lapack <- function(call = rlang::caller_env()) {
   choice <- getOption("bayesbem.lapack", "auto")
@@ -30,8 +29,8 @@ optimised_blas <- function(blas) {
 # Tells once per session, when a fit with a large field covariance (the grid
 # and modular programs at more than 120 field rows) runs on Eigen because
 # R's BLAS is not a known optimised one (optimised_blas()), that an
-# optimised BLAS would more than halve each gradient (365 days: 4.3-5.1 ms
-# against 2.1 on OpenBLAS, bench/RESULTS.md). Silent when the user chose
+# optimised BLAS would about halve the fit (bench/RESULTS.md, "Gradient
+# cost"). Silent when the user chose
 # the path with the option `bayesbem.lapack`.
 inform_blas <- function(n, lapack, field_density) {
   if (lapack || !field_density || n <= 120 ||
@@ -40,7 +39,7 @@ inform_blas <- function(n, lapack, field_density) {
   }
   blas <- extSoftVersion()[["BLAS"]]
   cli::cli_inform(c(i = "{n} field rows: each gradient factors a {n} x {n} matrix, here by Eigen, since R's BLAS ({.path {blas}}) is not a known optimised one.",
-                    " " = "With R linked to OpenBLAS (on Debian or Ubuntu, {.code apt install libopenblas0-serial}) it runs on R's LAPACK in less than half the time; see {.code ?calibrate}, \"Linear algebra\"."),
+                    " " = "With R linked to OpenBLAS (on Debian or Ubuntu, {.code apt install libopenblas0-serial}) it runs on R's LAPACK, which about halved the time of a year of daily data in the package's benchmarks; see {.code ?calibrate}, \"Linear algebra\"."),
                   class = "bayesbem_message_blas", .frequency = "once",
                   .frequency_id = "bayesbem_blas")
 }

@@ -15,13 +15,18 @@
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-savings.R [problems] [embedded|eplus]
 #   problems: a count (1 to k) or a range k1-k2; default 20, embedded.
-#   eplus needs BAYESBEM_EPLUS; BENCH_DRAWS: posterior draws (default 40).
+#   eplus needs BAYESBEM_EPLUS; BENCH_DRAWS: posterior draws (default 40);
+#   BENCH_CACHE: a directory for cached simulator runs (a rerun resumes);
+#   BENCH_WORKERS: simulator runs in parallel (multisession; default 1).
 suppressPackageStartupMessages(library(bayesbem))
 args <- commandArgs(trailingOnly = TRUE)
 spec <- as.integer(strsplit(if (length(args) > 0L) args[1] else "20", "-")[[1]])
 problems <- if (length(spec) > 1L) seq(spec[1], spec[2]) else seq_len(spec)
 kind <- if (length(args) > 1L) args[2] else "embedded"
 ndraws <- as.integer(Sys.getenv("BENCH_DRAWS", "40"))
+cache <- if (nzchar(Sys.getenv("BENCH_CACHE"))) Sys.getenv("BENCH_CACHE") else NULL
+workers <- as.integer(Sys.getenv("BENCH_WORKERS", "1"))
+if (workers > 1L) future::plan(future::multisession, workers = workers)
 epw <- function(year) system.file("extdata", sprintf("%d_AMY.epw.gz", year), package = "bayesbem")
 make_simulator <- function(year) {
   if (kind == "eplus") eplus_simulator(weather = epw(year)) else bem_simulator(epw(year))
@@ -39,13 +44,13 @@ one_problem <- function(k) {
                                    ranges$parameter))
   field <- simulate_field(pre, truth, effect = function(d) 120 * (d$rh > 47), noise_sd = 25,
                           seed = k)
-  runs <- simulate_design(pre, design_lhs(ranges, n = 20, seed = k))
+  runs <- simulate_design(pre, design_lhs(ranges, n = 20, seed = k), cache_dir = cache)
   start <- proc.time()[["elapsed"]]
   fit <- suppressWarnings(calibrate(field[c("y", "temp", "rh", "solar")], runs, seed = k,
                                     cores = 2, refresh = 0),
                           classes = "bayesbem_warning_convergence")
   s <- suppressWarnings(savings(fit, post, scenario(post, scale = retrofit_scale),
-                                ndraws = ndraws),
+                                ndraws = ndraws, cache_dir = cache),
                         classes = "bayesbem_warning_extrapolation")
   total <- summary(s)[13, ]
   after <- truth
@@ -53,7 +58,8 @@ one_problem <- function(k) {
   true_savings <- sum(simulate_field(post, truth)$y - simulate_field(post, after)$y)
   measured_after <- simulate_field(post, after, effect = function(d) 120 * (d$rh > 47),
                                    noise_sd = 25, seed = 100 + k)$y
-  a <- suppressWarnings(avoided_energy(fit, post, measured_after, ndraws = ndraws),
+  a <- suppressWarnings(avoided_energy(fit, post, measured_after, ndraws = ndraws,
+                                      cache_dir = cache),
                         classes = "bayesbem_warning_extrapolation")
   data.frame(simulator = kind, problem = k, truth = true_savings, estimate = total$savings,
              lower = total$lower, upper = total$upper,

@@ -19,8 +19,8 @@
 //   [L11 0; L21 L22]^-1 = [L11^-1 0; -L22^-1 L21 L11^-1  L22^-1],
 // the diagonal halves inverted first, then L21 multiplied by them (dtrmm).
 // Nearly all the flops are then in dtrmm: at n = 365 on OpenBLAS 0.3.21
-// this takes a third of the time of OpenBLAS's own dtrtri (0.47-0.50 ms
-// against 1.55, bench/RESULTS.md).
+// this takes a third of the time of OpenBLAS's own dtrtri
+// (inst/notes/design.md, "Hand-written gradient of the field density").
 static int invert_lower(int n, double* a, int lda) {
   int info = 0;
   if (n <= 16) {

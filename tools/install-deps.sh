@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs everything bayesbem needs on a bare Debian bookworm machine:
-# R and the prebuilt r-cran-* packages from Debian, then from CRAN only what
-# Debian lacks. Needs root (or sudo). Safe to run again.
+# R and the prebuilt r-cran-* packages from Debian, an optimised BLAS
+# (OpenBLAS, serial: the chains already share the cores), then from CRAN only
+# what Debian lacks. Needs root (or sudo). Safe to run again.
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -18,8 +19,12 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   r-cran-rcpparmadillo r-cran-proxy r-cran-clue r-cran-ggrepel r-cran-rspectra \
   r-cran-shinyjs r-cran-iterators r-cran-modeltools r-cran-foreach \
   r-cran-dbi r-cran-rsqlite r-cran-jsonlite \
+  libopenblas0-serial \
   > /dev/null
 echo "install-deps: Debian packages installed"
+# Debian's alternatives switch R to OpenBLAS when it is installed; say which
+# BLAS R now uses (calibrate() reads the same to choose its linear algebra).
+Rscript -e 'cat("install-deps: R uses the BLAS at", extSoftVersion()[["BLAS"]], "\n")'
 
 # From CRAN (R's configured repository) only what Debian lacks: sensitivity
 # (Morris screening) and the few of its dependencies Debian does not ship.

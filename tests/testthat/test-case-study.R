@@ -11,7 +11,7 @@ test_that("run_case_study() prints the fit, its diagnostics and metrics, and sav
     ),
     class = "bayesbem_warning_convergence"
   )
-  expect_s3_class(fit, "koh_fit")
+  expect_s3_class(fit, "bayesbem_fit")
   expect_equal(fit$settings$structure, "grid")
   expect_true(any(grepl("ASHRAE Guideline 14", out)))
   expect_true(any(grepl("equipment_power_density", out)))

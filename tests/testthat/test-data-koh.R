@@ -1,6 +1,6 @@
 test_that("koh_data() scales as the method says", {
   d <- koh_data(seb_field, seb_sim)
-  expect_s3_class(d, "koh_data")
+  expect_s3_class(d, "bayesbem_data")
   expect_equal(c(d$n, d$m, d$p, d$q), c(12, 120, 3, 3))
   expect_equal(d$scaling$y_center, mean(seb_sim$eta))
   expect_equal(d$scaling$y_scale, sd(seb_sim$eta))

@@ -26,8 +26,8 @@ test_that("seb_holdout holds the 2012 bills with the monthly means of the 2012 w
   expect_equal(seb_holdout$solar, as.vector(tapply(epw[[15]][keep], month[keep], mean)))
 })
 
-test_that("seb_fit is a usable koh_fit of the shipped data", {
-  expect_s3_class(seb_fit, "koh_fit")
+test_that("seb_fit is a usable bayesbem_fit of the shipped data", {
+  expect_s3_class(seb_fit, "bayesbem_fit")
   expect_equal(seb_fit$data$field, seb_field)
   expect_equal(posterior::ndraws(posterior::as_draws(seb_fit)), 400)
   withr::local_seed(1)

@@ -2,7 +2,7 @@ test_that("the emulator of a fit on the right simulator passes the closed loop",
   case <- synthetic_case("none")
   sim <- synthetic_simulator()
   check <- validate_emulator(case$base, sim, ndraws = 8)
-  expect_s3_class(check, "koh_emulator_check")
+  expect_s3_class(check, "bayesbem_emulator_check")
   expect_equal(nrow(check$table), 8 * 36)
   # the simulator's outputs, recomputed independently at the draws' parameters
   tf <- bayesbem:::parameter_draws(case$base)[unique(check$table$draw), ]

@@ -2,7 +2,7 @@ test_that("check_convergence() reports every parameter and the sampler", {
   skip_on_cran()
   fit <- shared_fit()
   conv <- check_convergence(fit, warn = FALSE)
-  expect_s3_class(conv, "koh_convergence")
+  expect_s3_class(conv, "bayesbem_convergence")
   # tf, beta_eta, beta_delta, the lambdas, and the 7 terms of the linear emulator mean
   expect_equal(nrow(conv), 3 + 6 + 3 + 3 + 7)
   expect_named(conv, c("variable", "rhat", "ess_bulk", "ess_tail", "ok"))

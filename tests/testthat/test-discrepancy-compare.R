@@ -8,7 +8,7 @@ test_that("extending the model with the true cause helps, measurably", {
     cmp <- suppressWarnings(compare_fits(case$base, ext, holdout = case$holdout,
                                          truth = synthetic_truth),
                             classes = "bayesbem_warning_extrapolation")
-    expect_s3_class(cmp, "koh_comparison")
+    expect_s3_class(cmp, "bayesbem_comparison")
     expect_gt(cmp$elpd$diff, 2 * cmp$elpd$se, label = kind)
     held <- cmp$metrics[cmp$metrics$set == "held-out", ]
     expect_lt(held$cvrmse[held$fit == "b"], held$cvrmse[held$fit == "a"], label = kind)

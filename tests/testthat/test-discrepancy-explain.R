@@ -9,7 +9,7 @@ test_that("each hidden effect is flagged and its cause ranks first", {
     expect_true(any(discrepancy(case$base)$flag), label = kind)
     ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, regions = FALSE,
                               seed = 1)
-    expect_s3_class(ex, "koh_explanation")
+    expect_s3_class(ex, "bayesbem_explanation")
     expect_gte(nrow(ex), 4)
     expect_equal(ex$candidate[1], synthetic_causes[[kind]], label = kind)
     expect_true(ex$explains[1], label = kind)
@@ -154,5 +154,5 @@ test_that("bad candidates get classed errors", {
   expect_snapshot(explain_discrepancy(seb_fit, n_null = 99), error = TRUE)
   expect_snapshot(explain_discrepancy(seb_fit, n_null = 18, regions = FALSE), error = TRUE)
   expect_s3_class(explain_discrepancy(seb_fit, n_null = 20, regions = FALSE, ndraws = 20, seed = 1),
-                  "koh_explanation")
+                  "bayesbem_explanation")
 })

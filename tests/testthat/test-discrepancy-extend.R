@@ -2,7 +2,7 @@ test_that("extend() adds discrepancy terms with coefficients in output units", {
   skip_on_cran()
   case <- synthetic_case("step")
   ext <- synthetic_extension("step", "after_change")
-  expect_s3_class(ext, "koh_fit")
+  expect_s3_class(ext, "bayesbem_fit")
   expect_equal(names(ext$data$covariates), "after_change")
   draws <- posterior::as_draws_df(ext)
   # the hidden step is 200 kWh

@@ -1,6 +1,6 @@
 test_that("the shipped fit's verdicts agree with the paper's findings", {
   x <- identifiability(seb_fit, ndraws = 100)
-  expect_s3_class(x, "koh_identifiability")
+  expect_s3_class(x, "bayesbem_identifiability")
   verdict <- stats::setNames(x$verdict, x$parameter)
   # the paper: equipment power density is determined (about 5-18 W/m2 of
   # 3-30), fan efficiency hardly (spread over its range), and with flat

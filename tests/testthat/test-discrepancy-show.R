@@ -3,7 +3,7 @@ test_that("discrepancy() gives delta and the simulator residual at every field p
   fit <- shared_fit()
   withr::local_seed(11)
   d <- discrepancy(fit, ndraws = 300)
-  expect_s3_class(d, "koh_discrepancy")
+  expect_s3_class(d, "bayesbem_discrepancy")
   expect_equal(nrow(d), 12)
   expect_equal(d$obs, seb_field$y)
   expect_true(all(d$delta_lower <= d$delta_mean & d$delta_mean <= d$delta_upper))

@@ -2,7 +2,7 @@ test_that("print(), summary() and as_draws() show physical units and hyperparame
   skip_on_cran()
   fit <- shared_fit()
   s <- summary(fit)
-  expect_s3_class(s, "summary.koh_fit")
+  expect_s3_class(s, "summary.bayesbem_fit")
   expect_named(s$parameters, c("variable", "mean", "sd", "q5", "q50", "q95",
                                "rhat", "ess_bulk", "ess_tail"))
   expect_equal(s$parameters$variable, c("fan_total_efficiency", "equipment_power_density",

@@ -187,7 +187,7 @@ test_that("a failing Cholesky factor is named, with the fix", {
 test_that("a small fit of the case study finds the equipment power density", {
   skip_on_cran()
   fit <- shared_fit()
-  expect_s3_class(fit, "koh_fit")
+  expect_s3_class(fit, "bayesbem_fit")
   s <- summary(fit)
   epd <- s$parameters[s$parameters$variable == "equipment_power_density", ]
   expect_gt(epd$mean, 8)

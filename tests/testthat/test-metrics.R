@@ -49,7 +49,7 @@ test_that("calibration_metrics() gives training and held-out metrics with a verd
 
 test_that("calibration metrics print with 2 decimals", {
   m <- calibration_metrics(seb_fit, ndraws = 50)
-  expect_s3_class(m, "koh_metrics")
+  expect_s3_class(m, "bayesbem_metrics")
   out <- capture.output(print(m))
   expect_match(out[3], sprintf("training +calibrated +emulator 12 +%.2f +%.2f +TRUE",
                                m$cvrmse[2], m$nmbe[2]))

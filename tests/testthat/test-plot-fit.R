@@ -21,3 +21,14 @@ test_that("plot functions take the object as x; the old argument names still wor
   expect_equal(old, plot_predictions_data(x = seb_fit, ndraws = 20))
   expect_error(plot_posteriors_data(), class = "error")
 })
+
+test_that("plot() of a result draws what its plot_*() draws", {
+  d <- discrepancy(seb_fit, ndraws = 50)
+  expect_identical(plot(d)$data, plot_discrepancy(d)$data)
+  id <- identifiability(seb_fit, ndraws = 20)
+  expect_identical(plot(id)$data, plot_identifiability(id)$data)
+  expect_error(plot(d, colour = "red"), class = "rlib_error_dots_nonempty")
+  skip_if_not_installed("sensitivity")
+  m <- screen_morris(bem_simulator(shipped_epw(2013)), r = 3, seed = 1)
+  expect_identical(plot(m)$data, plot_morris(m)$data)
+})

@@ -37,7 +37,7 @@ test_that("a scenario's simulated draws equal the simulator at the posterior dra
   sm <- summary(p)
   expect_equal(sm$period, c(as.character(1:12), "total"))
   expect_equal(sm$mean[13], mean(rowSums(p$y)))
-  expect_output(print(p), "koh_scenario_prediction")
+  expect_output(print(p), "bayesbem_scenario_prediction")
 })
 
 test_that("a scenario's checks say what is wrong", {

@@ -26,6 +26,6 @@ test_that("the README's code blocks run", {
     source(exprs = parse(text = code), local = env, print.eval = TRUE)
   )))
   expect_true(any(grepl("Calibration parameters (physical units)", out, fixed = TRUE)))
-  expect_s3_class(env$fit, "koh_fit")
-  expect_s3_class(env$s, "koh_savings")
+  expect_s3_class(env$fit, "bayesbem_fit")
+  expect_s3_class(env$s, "bayesbem_savings")
 })

@@ -6,7 +6,7 @@ test_that("a table study calibrates the first k ranked parameters", {
     study_parameters(seb_field, seb_sim, ranking = ranking, k = c(1, 3), chains = 2,
                      iter = 600, cores = 2, seed = 4, refresh = 0),
     classes = "bayesbem_warning_convergence")
-  expect_s3_class(study, "koh_parameter_study")
+  expect_s3_class(study, "bayesbem_parameter_study")
   expect_named(study$fits, c("k = 1", "k = 3"))
   expect_equal(study$fits[["k = 1"]]$data$names$t, ranking[1])
   expect_equal(study$fits[["k = 3"]]$data$names$t, ranking)

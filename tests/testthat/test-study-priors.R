@@ -21,7 +21,7 @@ prior_study <- local({
 test_that("a specific prior pulls the posterior to its mean and narrows it", {
   skip_on_cran()
   study <- prior_study()
-  expect_s3_class(study, "koh_prior_study")
+  expect_s3_class(study, "bayesbem_prior_study")
   expect_named(study$fits, c("flat", "weak", "specific"))
   post <- study$posteriors
   for (name in names(seb_mu)) {
