@@ -3,6 +3,7 @@
 // eta's mean and sd; x and t are on [0, 1]. koh_grid.stan computes the same
 // density faster when the runs form a grid over the field inputs.
 functions {
+  // the GP kernels, the mean and discrepancy terms, the tf prior, the C++ densities
 #include /include/koh_functions.stan
 }
 data {
@@ -15,6 +16,7 @@ data {
   matrix[n, p] xf;                       // field inputs
   matrix[m, p] xc;                       // simulation inputs
   matrix[m, q] tc;                       // simulation design
+  // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
   // inputs whose outputs are sampled as parameters (the paper's Appendix D);
   // n_pred = 0 leaves the model unchanged
@@ -36,10 +38,12 @@ transformed data {
   matrix[m, m] eq_tt = equal_rows(tc, tc);
 }
 parameters {
+  // tf, rho_eta, rho_delta, lambda_eta, lambda_delta, lambda_e, gamma, b
 #include /include/koh_parameters.stan
   vector[n_pred] y_pred;                 // field outputs at x_pred, noise included
 }
 transformed parameters {
+  // beta_eta and beta_delta, the correlation parameters on the log scale
 #include /include/koh_transformed_parameters.stan
 }
 model {
@@ -54,6 +58,7 @@ model {
                                                  eq_ff, eq_fc, eq_cc, eq_tt, tc, tf',
                                                  beta_eta, beta_delta, lambda_eta,
                                                  lambda_delta, lambda_e, nugget);
+  // the priors of every parameter
 #include /include/koh_priors.stan
   target += multi_normal_cholesky_lpdf(z | mu, cholesky_decompose(sigma_z));
 }

@@ -13,6 +13,7 @@
 // geometry"). The separable emulator of stage 1 is passed through to the
 // generated quantities: the package predicts with it.
 functions {
+  // the GP kernels, the mean and discrepancy terms, the tf prior, the C++ densities
 #include /include/koh_functions.stan
   /* The calibration parameters on [0, 1] from unconstrained u, linear
    * inside and with exponential tails within about a of the bounds:
@@ -33,13 +34,9 @@ functions {
   }
 }
 data {
-  int<lower=1> n;                        // field observations
-  int<lower=1> mt;                       // simulation runs
-  int<lower=1> p;                        // observable inputs x
-  int<lower=1> q;                        // calibration parameters t
-  vector[n] y;                           // field output
-  matrix[n, p] xf;                       // field inputs
-  matrix[mt, q] tc;                      // simulation design, one row per run
+  // n, mt, p, q; y, xf and tc
+#include /include/koh_stage2_data.stan
+  // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
   int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
   // the scale of tf_u (R/fit-basis.R, linear_box)
@@ -64,10 +61,8 @@ data {
 parameters {
   // calibration parameters, tf = g(tf_u), sampled as tf_u / tf_multiplier
   vector<multiplier=tf_multiplier>[q] tf_u;
-  vector<lower=0, upper=1>[p] rho_delta;
-  real<lower=0> lambda_delta;            // precision of the discrepancy
-  real<lower=0> lambda_e;                // precision of the observation error
-  vector[n_h] gamma;                     // coefficients of the discrepancy terms
+  // rho_delta, lambda_delta, lambda_e, gamma
+#include /include/koh_stage2_parameters.stan
 }
 transformed parameters {
   vector[q] tf = linear_box_lp(tf_u, tf_edge);
@@ -75,19 +70,13 @@ transformed parameters {
 }
 model {
   vector[2 * pc] wv = basis_components(tf, tc, w_coef, w_beta, w_s2, w_nug, w_alpha, w_Ki);
-  target += beta_lpdf(rho_delta | rho_delta_a, rho_delta_b);
-  target += gamma_lpdf(lambda_delta | lambda_delta_shape, lambda_delta_rate);
-  target += gamma_lpdf(lambda_e | lambda_e_shape, lambda_e_rate);
-  target += tf_prior_lpdf(tf | tf_is_normal, tf_mu, tf_sd, tf_scale, tf_lo, tf_span, tf_v_lo,
-                            tf_v_span);
-  target += normal_lpdf(gamma | 0, gamma_sd);
+  // priors of the calibration parameters, the discrepancy and the noise
+#include /include/koh_stage2_priors.stan
   target += normal_basis_lpdf(y - mu_f - B * head(wv, pc) - discrepancy_terms(h, gamma)
                               | B, tail(wv, pc), xf, beta_delta, lambda_delta,
                               s2r + 1 / lambda_e, lapack);
 }
 generated quantities {
   // the separable emulator, under the names of the joint programs
-  vector[p + q] beta_eta = beta_eta_fixed;
-  real lambda_eta = lambda_eta_fixed;
-  vector[n_b] b = b_fixed;
+#include /include/koh_fixed_emulator.stan
 }

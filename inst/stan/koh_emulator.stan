@@ -5,6 +5,7 @@
 // so vec(eta - h' b) ~ N(0, Kt (x) Kx / lambda_eta), O(mt^3 + n_x^3) per
 // gradient. koh_modular.stan then calibrates with the emulator fixed.
 functions {
+  // the GP kernels, the mean and discrepancy terms, the tf prior, the C++ densities
 #include /include/koh_functions.stan
 }
 data {
@@ -16,6 +17,7 @@ data {
   matrix[n_x, mt] eta;                   // simulator output of run a at grid input i
   matrix[n_x, p] x_grid;                 // grid inputs, shared by every run
   matrix[mt, q] tc;                      // simulation design, one row per run
+  // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
 }
 transformed data {

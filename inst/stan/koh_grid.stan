@@ -2,8 +2,9 @@
 // made at the n field inputs (x_c = x_f) and possibly at further inputs, e.g.
 // of held-out periods (n_x in all). The log density equals koh.stan's,
 // but the emulator covariance is the Kronecker product Kt (x) Kx, so each
-// gradient costs O(mt^3 + n^3) instead of O((n (mt + 1))^3) (issue 7).
+// gradient costs O(mt^3 + n^3) instead of O((n (mt + 1))^3).
 functions {
+  // the GP kernels, the mean and discrepancy terms, the tf prior, the C++ densities
 #include /include/koh_functions.stan
 }
 data {
@@ -16,6 +17,7 @@ data {
   matrix[n_x, mt] eta;                   // simulator output of run a at grid input i
   matrix[n_x, p] x_grid;                 // grid inputs, shared by every run
   matrix[mt, q] tc;                      // simulation design, one row per run
+  // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
   int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
 }
@@ -27,9 +29,11 @@ transformed data {
   matrix[mt, mt] eq_tt = equal_rows(tc, tc);
 }
 parameters {
+  // tf, rho_eta, rho_delta, lambda_eta, lambda_delta, lambda_e, gamma, b
 #include /include/koh_parameters.stan
 }
 transformed parameters {
+  // beta_eta and beta_delta, the correlation parameters on the log scale
 #include /include/koh_transformed_parameters.stan
 }
 model {
@@ -37,6 +41,7 @@ model {
   matrix[n_x, n_x] Kx = jittered_cor(nd2_xx, eq_xx, head(beta_eta, p), nugget);
   matrix[mt, mt] Kt = jittered_cor(nd2_tt, eq_tt, tail(beta_eta, q), nugget);
   vector[mt] k0 = tf_cor(tf', tc, tail(beta_eta, q));
+  // the priors of every parameter
 #include /include/koh_priors.stan
   // the Gaussian processes model what the emulator mean and the discrepancy
   // terms leave: eta - h(x, t)' b at the runs, y - h(xf, tf)' b - h' gamma.

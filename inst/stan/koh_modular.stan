@@ -8,16 +8,13 @@
 // analytic gradient, O(n^3 + n mt + mt^2). The log density is that of
 // koh_grid.stan given the runs, at the fixed emulator.
 functions {
+  // the GP kernels, the mean and discrepancy terms, the tf prior, the C++ densities
 #include /include/koh_functions.stan
 }
 data {
-  int<lower=1> n;                        // field observations
-  int<lower=1> mt;                       // simulation runs
-  int<lower=1> p;                        // observable inputs x
-  int<lower=1> q;                        // calibration parameters t
-  vector[n] y;                           // field output
-  matrix[n, p] xf;                       // field inputs
-  matrix[mt, q] tc;                      // simulation design, one row per run
+  // n, mt, p, q; y, xf and tc
+#include /include/koh_stage2_data.stan
+  // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
   int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
   // the stage-1 emulator
@@ -33,22 +30,16 @@ transformed data {
 }
 parameters {
   vector<lower=0, upper=1>[q] tf;        // calibration parameters
-  vector<lower=0, upper=1>[p] rho_delta;
-  real<lower=0> lambda_delta;            // precision of the discrepancy
-  real<lower=0> lambda_e;                // precision of the observation error
-  vector[n_h] gamma;                     // coefficients of the discrepancy terms
+  // rho_delta, lambda_delta, lambda_e, gamma
+#include /include/koh_stage2_parameters.stan
 }
 transformed parameters {
   vector[p] beta_delta = -4 * log(rho_delta);
 }
 model {
   vector[mt + 1] wc = runs_weights(Lt, tf_cor(tf', tc, tail(beta_eta_fixed, q)), nugget);
-  target += beta_lpdf(rho_delta | rho_delta_a, rho_delta_b);
-  target += gamma_lpdf(lambda_delta | lambda_delta_shape, lambda_delta_rate);
-  target += gamma_lpdf(lambda_e | lambda_e_shape, lambda_e_rate);
-  target += tf_prior_lpdf(tf | tf_is_normal, tf_mu, tf_sd, tf_scale, tf_lo, tf_span, tf_v_lo,
-                            tf_v_span);
-  target += normal_lpdf(gamma | 0, gamma_sd);
+  // priors of the calibration parameters, the discrepancy and the noise
+#include /include/koh_stage2_priors.stan
   target += normal_two_kernels_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef)
                                     - discrepancy_terms(h, gamma) - E_f * head(wc, mt)
                                     | Kx_ff, wc[mt + 1] / lambda_eta_fixed, xf, beta_delta,
@@ -56,7 +47,5 @@ model {
 }
 generated quantities {
   // the fixed emulator, under the names of the joint programs
-  vector[p + q] beta_eta = beta_eta_fixed;
-  real lambda_eta = lambda_eta_fixed;
-  vector[n_b] b = b_fixed;
+#include /include/koh_fixed_emulator.stan
 }
