@@ -93,6 +93,7 @@ print.bayesbem_savings <- function(x, level = 0.9, ...) {
             "* {x$scenarios$baseline$simulator$name}, {ncol(x$savings)} period{?s}, {nrow(x$savings)} paired posterior draw{?s}",
             "* discrepancy: {assumption}",
             "* total savings {signif(t$savings, 3)} ({round(100 * level)} % interval {signif(t$lower, 3)} to {signif(t$upper, 3)}), {round(t$percent, 1)} % of the baseline",
+            "* Monte Carlo standard error of the total: {signif(t$sd / sqrt(nrow(x$savings)), 2)} (sd / sqrt(draws); more draws with {.arg ndraws} narrow it and steady the interval's ends)",
             "")
   print_rounded(s, 4)
   invisible(x)

@@ -66,7 +66,7 @@ test_that("shares are fractions with intervals, p-values adjusted", {
   skip_on_cran()
   ex <- explain_discrepancy(shared_fit(), data.frame(k = seq_len(12)), n_null = 100,
                             ndraws = 50, seed = 2)
-  expect_named(ex, c("candidate", "share", "lower", "upper", "z", "p_value", "explains"))
+  expect_named(ex, c("candidate", "share", "lower", "upper", "z", "p_value", "cv_gain", "explains"))
   expect_true(all(ex$lower <= ex$share & ex$share <= ex$upper))
   expect_true(all(ex$share >= 0 & ex$share <= 1))
   expect_true(all(ex$p_value > 0 & ex$p_value <= 1))
@@ -155,4 +155,43 @@ test_that("bad candidates get classed errors", {
   expect_snapshot(explain_discrepancy(seb_fit, n_null = 18, regions = FALSE), error = TRUE)
   expect_s3_class(explain_discrepancy(seb_fit, n_null = 20, regions = FALSE, ndraws = 20, seed = 1),
                   "bayesbem_explanation")
+})
+
+test_that("cv_gain is the leave-one-out gain of a term, refitted row by row", {
+  withr::local_seed(3)
+  n <- 20
+  basis <- cbind(1, stats::rnorm(n))
+  b <- stats::rnorm(n)
+  r <- drop(basis %*% c(1, 2)) + 0.8 * b + stats::rnorm(n, sd = 0.3)
+  press <- function(x) {
+    sum(vapply(seq_len(n), function(i) {
+      coef <- stats::lm.fit(x[-i, , drop = FALSE], r[-i])$coefficients
+      (r[i] - sum(x[i, ] * coef))^2
+    }, numeric(1)))
+  }
+  expect_equal(bayesbem:::cv_gain(r, basis, b), 1 - press(cbind(basis, b)) / press(basis))
+  expect_gt(bayesbem:::cv_gain(r, basis, b), 0)
+  # a term that only fits noise predicts left-out rows worse
+  noise <- stats::rnorm(n)
+  expect_lt(bayesbem:::cv_gain(drop(basis %*% c(1, 2)) + stats::rnorm(n, sd = 0.3), basis, noise), 0.05)
+  # a term that fits a single row cannot predict it
+  expect_equal(bayesbem:::cv_gain(r, basis, as.numeric(seq_len(n) == 4)), -Inf)
+})
+
+test_that("two causes that explain the same residual give the ambiguous verdict", {
+  skip_on_cran()
+  case <- synthetic_case("covariate")
+  # a second record of the same events (say, room bookings), another cause by name
+  bookings <- data.frame(bookings = case$train_covariates$occupancy +
+                           withr::with_seed(4, stats::rnorm(36, sd = 0.02)))
+  ex <- explain_discrepancy(case$base, cbind(case$train_covariates, bookings), n_null = 500,
+                            regions = FALSE, seed = 1)
+  expect_true(ex$explains[1])
+  expect_setequal(c(ex$candidate[1], attr(ex, "ambiguous")), c("occupancy", "bookings"))
+  expect_match(attr(ex, "verdict"), "ambiguously between")
+  # without the copy the same fit names occupancy alone
+  plain <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, regions = FALSE,
+                               seed = 1)
+  expect_equal(attr(plain, "ambiguous"), character(0))
+  expect_match(attr(plain, "verdict"), "best explained by occupancy")
 })

@@ -15,6 +15,10 @@ test_that("paired savings equal the simulator's by hand at the same posterior dr
   out <- capture.output(print(s))
   expect_match(out[1], "efficient against as calibrated")
   expect_match(paste(out, collapse = "\n"), "total savings")
+  # the Monte Carlo error of the total's mean, by hand
+  mcse <- signif(stats::sd(rowSums(s$savings)) / sqrt(12), 2)
+  expect_match(paste(out, collapse = "\n"), paste("Monte Carlo standard error of the total:", mcse),
+               fixed = TRUE)
 })
 
 test_that("the discrepancy under the retrofit is the assumption chosen", {
