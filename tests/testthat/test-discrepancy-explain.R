@@ -195,3 +195,28 @@ test_that("two causes that explain the same residual give the ambiguous verdict"
   expect_equal(attr(plain, "ambiguous"), character(0))
   expect_match(attr(plain, "verdict"), "best explained by occupancy")
 })
+
+test_that("on simulated nulls each family of terms holds its share of alpha", {
+  # residuals drawn from the null itself (white noise about a constant), 36
+  # rows of three inputs: the candidates' family may name a term in 4 % of
+  # draws, the regions' in 1 % (0.8 and 0.2 of alpha = 0.05)
+  withr::local_seed(8)
+  n <- 36
+  inputs <- data.frame(temp = stats::runif(n, -5, 25), rh = stats::runif(n, 30, 70),
+                       solar = stats::runif(n, 100, 300))
+  main <- bayesbem:::main_terms(inputs)
+  regions <- bayesbem:::region_terms(inputs, inputs)
+  family <- rep(c("main", "region"), c(length(main), length(regions)))
+  nuisance <- qr(matrix(1, n))
+  null <- matrix(stats::rnorm(n * 400), n)
+  alarms <- vapply(seq_len(100), function(i) {
+    r <- matrix(stats::rnorm(n), 1)
+    scores <- lapply(c(main, regions), function(b) bayesbem:::term_scores(b, r, nuisance, null, 0.9))
+    p <- bayesbem:::adjusted_p_values(scores, family, bayesbem:::region_weights)
+    c(main = any(p[family == "main"] < 0.05), region = any(p[family == "region"] < 0.05))
+  }, logical(2))
+  expect_gt(length(regions), 50)
+  # binomial(100, 0.04) exceeds 10 with probability 0.003; binomial(100, 0.01) exceeds 5 with 0.0006
+  expect_lte(sum(alarms["main", ]), 10)
+  expect_lte(sum(alarms["region", ]), 5)
+})
