@@ -11,8 +11,7 @@
 #'
 #' Why: with many field rows the posterior is narrower than a small design's
 #' emulator error, which then sets where the intervals lie while every
-#' sampler check passes (`bench/RESULTS.md`: at 365 days x 30 runs the
-#' intervals missed the truth in 9 of 18 cases). Runs over the posterior's
+#' sampler check passes (`bench/RESULTS.md`, "Emulator error"). Runs over the posterior's
 #' region make the emulator right where the calibration reads it; each round
 #' may move the posterior, hence the loop.
 #'

@@ -16,10 +16,10 @@
 #' When every parameter that fails is one of the emulator's hyperparameters
 #' (`beta_eta`, `lambda_eta`, the mean's `b`; sampled in a joint fit only)
 #' and the sampler had no trouble, the hint says so and advises runs where
-#' the posterior lies ([design_posterior()]). Measured
-#' (`bench/RESULTS.md`): with 12 months and 10 runs, 4 of 10 synthetic fits
-#' failed only there, with the calibration parameters converged in all 10;
-#' 10 runs more from [design_posterior()] made 8 of 10 converge. When stage 2
+#' the posterior lies ([design_posterior()]): with few runs such failures
+#' are common while the calibration parameters converge, and runs from
+#' [design_posterior()] removed most of them (`inst/notes/design.md`,
+#' "Sampling"). When stage 2
 #' of a modular fit kept chains in a minor mode that puts the calibration
 #' parameters elsewhere (see `minor_modes` in [calibrate()]), the hint names
 #' them and advises checking the emulator over both modes.

@@ -25,7 +25,7 @@
 #   Rscript bench/bench-diagnosis.R [simulators] [shapes] [problems]
 #   e.g. embedded,degreeday none,covariate 1-10 (the defaults: all, all, 1-10)
 # BENCH_FITS=<folder> keeps each problem's data and fit for later runs (the
-# diagnosis is then rerun on them).
+# diagnosis is then rerun on them); BENCH_EXTEND=false skips the extensions.
 suppressPackageStartupMessages(library(bayesbem))
 `%||%` <- function(a, b) if (is.null(a)) b else a
 options(bayesbem.progress = FALSE)
@@ -126,7 +126,7 @@ one_problem <- function(kind, sim, runs, shape, k) {
       covered = sum(s$q5 <= unlist(truth)[rownames(s)] & unlist(truth)[rownames(s)] <= s$q95))
   }
   before <- scores(base)
-  after <- if (right) {
+  after <- if (right && Sys.getenv("BENCH_EXTEND") != "false") {
     scores(suppressWarnings(extend(base, with = named[1], covariates = covariates[-held_out, ],
                                    refresh = 0), classes = "bayesbem_warning_convergence"))
   } else {
