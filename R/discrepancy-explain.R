@@ -125,7 +125,8 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
                     do.call(rbind, lapply(scores, `[[`, "summary")), row.names = NULL)
   out$p_value <- adjusted_p_values(scores, family, weights)
   mean_residual <- colMeans(residual)
-  out$cv_gain <- vapply(terms, function(b) cv_gain(mean_residual, basis, b), numeric(1))
+  baseline <- press(basis, mean_residual)
+  out$cv_gain <- vapply(terms, function(b) cv_gain(mean_residual, basis, b, baseline), numeric(1))
   out$explains <- out$p_value < alpha & out$cv_gain > 0
   out <- out[order(!out$explains, -out$share), ]
   rownames(out) <- NULL
@@ -140,14 +141,17 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
 # PRESS(basis), PRESS the sum of squared leave-one-out errors of the least
 # squares fit, e_i / (1 - h_ii). Positive when the term predicts left-out
 # rows (a term that only fits noise, or a few rows, makes PRESS larger).
-cv_gain <- function(r, basis, b) {
-  press <- function(x) {
-    q <- qr(x)
-    h <- rowSums(qr.Q(q)[, seq_len(q$rank), drop = FALSE]^2)
-    if (any(h > 1 - 1e-8)) return(Inf)
-    sum((qr.resid(q, r) / (1 - h))^2)
-  }
-  1 - press(cbind(basis, b)) / press(basis)
+cv_gain <- function(r, basis, b, baseline = press(basis, r)) {
+  1 - press(cbind(basis, b), r) / baseline
+}
+
+# Sum of squared leave-one-out errors of the least squares fit of r on the
+# columns of x; Inf when a row is fitted exactly (leverage 1).
+press <- function(x, r) {
+  q <- qr(x)
+  h <- rowSums(qr.Q(q)[, seq_len(q$rank), drop = FALSE]^2)
+  if (any(h > 1 - 1e-8)) return(Inf)
+  sum((qr.resid(q, r) / (1 - h))^2)
 }
 
 # The explaining candidates of another cause that the data cannot tell
@@ -155,10 +159,9 @@ cv_gain <- function(r, basis, b) {
 # it alone (R^2 of the posterior mean residual beyond recalibration: the
 # same part of the residual), and they explain as much as it (to
 # rounding) in at least 10 % of the posterior draws (`shares`, per term
-# and draw). Terms are of
-# one cause when one's variables include the other's ("rh > 47" and
-# "solar, where rh > 47"; "temp > 15" and "rh, where temp > 15"): a shape
-# of the same effect, not another explanation.
+# and draw). Terms are of one cause when one's variables include the
+# other's ("rh > 47" and "solar, where rh > 47"; "temp > 15" and "rh,
+# where temp > 15"): a shape of the same effect, not another explanation.
 ambiguous_with <- function(x, terms, shares, r, nuisance) {
   named <- x$candidate[x$explains]
   if (length(named) < 2L) {
@@ -169,15 +172,16 @@ ambiguous_with <- function(x, terms, shares, r, nuisance) {
     b <- qr.resid(nuisance, do.call(cbind, unname(terms[names])))
     sum(qr.fitted(qr(b), free)^2) / sum(free^2)
   }
-  variables <- function(name) strsplit(sub(" [<>] [^,]*$", "", sub(", where ", ",", name)), ",")[[1]]
-  nested <- function(a, b) all(variables(a) %in% variables(b)) || all(variables(b) %in% variables(a))
+  nested <- function(a, b) {
+    all(term_variables(a) %in% term_variables(b)) || all(term_variables(b) %in% term_variables(a))
+  }
   top <- r2(named[1])
   others <- named[-1][!vapply(named[-1], nested, logical(1), b = named[1])]
   close <- vapply(others, function(o) {
     r2(c(named[1], o)) < 1.1 * top && mean(shares[[o]] >= shares[[named[1]]] - 1e-8) >= 0.1
   }, logical(1))
   others <- others[close]
-  others[!duplicated(vapply(others, function(o) paste(sort(variables(o)), collapse = ","), ""))]
+  others[!duplicated(vapply(others, function(o) paste(sort(term_variables(o)), collapse = ","), ""))]
 }
 
 # The share of alpha each family of terms gets when regions are tried: the
@@ -276,14 +280,32 @@ region_cuts <- function(x) {
 # where b > c. NULL when `name` is no such name or names columns `table`
 # lacks.
 region_values <- function(name, table) {
+  parts <- parse_region(name)
+  if (is.null(parts) || !all(setdiff(c(parts$effect, parts$input), "") %in% names(table))) {
+    return(NULL)
+  }
+  inside <- if (parts$side == ">") table[[parts$input]] > parts$cut else table[[parts$input]] <= parts$cut
+  if (nzchar(parts$effect)) table[[parts$effect]] * inside else as.numeric(inside)
+}
+
+# A region's name split into the candidate whose effect it restricts
+# (`effect`, "" for a step), the `input` it is a region of, the `side`
+# ("<" or ">") and the `cut`; NULL when `name` is no region.
+parse_region <- function(name) {
   compact <- region_column_name(name)
   parts <- regmatches(compact, regexec("^(?:([^:]+):)?([^<>]+)([<>])(.+)$", compact))[[1]]
   cut <- suppressWarnings(as.numeric(parts[5]))
-  if (length(parts) == 0L || is.na(cut) || !all(setdiff(parts[2:3], "") %in% names(table))) {
+  if (length(parts) == 0L || is.na(cut)) {
     return(NULL)
   }
-  inside <- if (parts[4] == ">") table[[parts[3]]] > cut else table[[parts[3]]] <= cut
-  if (nzchar(parts[2])) table[[parts[2]]] * inside else as.numeric(inside)
+  list(effect = parts[2], input = parts[3], side = parts[4], cut = cut)
+}
+
+# The candidates a term is made of: a region's effect and input, or the
+# candidate itself.
+term_variables <- function(name) {
+  parts <- parse_region(name)
+  if (is.null(parts)) name else setdiff(c(parts$effect, parts$input), "")
 }
 
 # A region's name as a covariate column (and in `gamma[<name>]`): no commas

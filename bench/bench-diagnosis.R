@@ -27,7 +27,6 @@
 # BENCH_FITS=<folder> keeps each problem's data and fit for later runs (the
 # diagnosis is then rerun on them); BENCH_EXTEND=false skips the extensions.
 suppressPackageStartupMessages(library(bayesbem))
-`%||%` <- function(a, b) if (is.null(a)) b else a
 options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
 arg <- function(k, default) if (length(args) >= k) strsplit(args[k], ",")[[1]] else default
@@ -116,7 +115,7 @@ one_problem <- function(kind, sim, runs, shape, k) {
   base <- problem$base
   ex <- explain_discrepancy(base, covariates[-held_out, ], n_null = 1000, seed = k)
   named <- ex$candidate[ex$explains]
-  ambiguous <- attr(ex, "ambiguous") %||% character(0)
+  ambiguous <- attr(ex, "ambiguous")
   is_right <- function(name) !is.na(shapes[[shape]]) && grepl(shapes[[shape]], name)
   right <- length(named) > 0 && is_right(named[1])
   scores <- function(f) {
