@@ -29,8 +29,8 @@ optimised_blas <- function(blas) {
 # Tells once per session, when a fit with a large field covariance (the grid
 # and modular programs at more than 120 field rows) runs on Eigen because
 # R's BLAS is not a known optimised one (optimised_blas()), that an
-# optimised BLAS would about halve the fit (bench/RESULTS.md, "Gradient
-# cost"). Silent when the user chose
+# optimised BLAS would be faster (bench/RESULTS.md, "Gradient cost").
+# Silent when the user chose
 # the path with the option `bayesbem.lapack`.
 inform_blas <- function(n, lapack, field_density) {
   if (lapack || !field_density || n <= 120 ||
@@ -39,7 +39,7 @@ inform_blas <- function(n, lapack, field_density) {
   }
   blas <- extSoftVersion()[["BLAS"]]
   cli::cli_inform(c(i = "{n} field rows: each gradient factors a {n} x {n} matrix, here by Eigen, since R's BLAS ({.path {blas}}) is not a known optimised one.",
-                    " " = "With R linked to OpenBLAS (on Debian or Ubuntu, {.code apt install libopenblas0-serial}) it runs on R's LAPACK, which about halved the time of a year of daily data in the package's benchmarks; see {.code ?calibrate}, \"Linear algebra\"."),
+                    " " = "With R linked to OpenBLAS (on Debian or Ubuntu, {.code apt install libopenblas0-serial}) it runs on R's LAPACK, faster; see {.code ?calibrate}, \"Linear algebra\"."),
                   class = "bayesbem_message_blas", .frequency = "once",
                   .frequency_id = "bayesbem_blas")
 }
