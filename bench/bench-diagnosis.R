@@ -1,43 +1,60 @@
 # Benchmark: does explain_discrepancy() name the cause on problems it was
 # not tuned on? Written apart from the test suite's synthetic problems
 # (tests/testthat/helper-synthetic.R), with simulators of different forms:
-#   embedded   the package's monthly model (ISO 13790), equipment power
-#              density and infiltration calibrated;
-#   degreeday  a model written here: base load plus heating and cooling by
-#              degree-days with a soft balance point, solar gains through the
-#              cooling plant; heat loss coefficient and base load calibrated.
-# Each problem: 48 months of weather (2012, 2013 and a perturbed copy of
-# both), true parameters drawn in the middle 60 % of their ranges, a hidden
-# effect of one shape, noise sd 15 kWh; 30 runs (one Latin hypercube per
-# simulator); 36 months fitted (2 chains x 600 at adapt_delta 0.9), 12 held
-# out. Shapes and the names that count as right:
+#   embedded     the package's monthly model (ISO 13790), equipment power
+#                density and infiltration calibrated; 48 months of weather
+#                (2012, 2013 and a perturbed copy of both), 36 fitted;
+#   degreeday    a model written here: base load plus heating and cooling
+#                by degree-days with a soft balance point, solar gains
+#                through the cooling plant; heat loss coefficient and base
+#                load calibrated; the same 48 months;
+#   eplus        the case-study EnergyPlus model by month, 2012 and 2013,
+#                equipment power density and cooling COP calibrated, 18
+#                months fitted, 6 held out (needs EnergyPlus);
+#   eplus_daily  the same by day, every other day of 2013, 153 fitted, 30
+#                held out.
+# Per problem: true parameters drawn in the middle 60 % of their ranges, a
+# hidden effect of one shape, noise (sd 15 kWh a month; 40 kWh a month and
+# 3 kWh a day on EnergyPlus); 30 runs (one Latin hypercube per simulator);
+# fits of 2 chains x 600 at adapt_delta 0.9. Shapes and the names that
+# count as right:
 #   none            no effect (a false alarm is any cause named)
 #   covariate       250 kWh x occupancy                  "occupancy"
-#   step            200 kWh from month 15 on             "after_change"
+#   step            200 kWh from month 15 (EnergyPlus: 13) on "after_change"
 #   region          250 kWh where rh > 47                "rh > ..."
 #   interaction     8 kWh per % rh, where temp > 15      "rh, where temp > ..."
 #   multiplicative  10 % of the simulator's output       (no candidate names it)
-# The candidates: the inputs, occupancy, after_change and a decoy that
-# follows temperature. When the right cause is named, extend() adds it and
-# the gain is measured: held-out CVRMSE of the predictive mean and coverage
-# of the true parameters by their 90 % intervals, before and after.
+#   weekend         EnergyPlus made with the plug loads on the weekday
+#                   schedule at weekends                 "weekend_days", "weekend"
+#   drift           EnergyPlus made with the cooling setpoint 2 C lower in
+#                   2013                                 "after_change..."
+# The candidates: the inputs, occupancy, after_change, a decoy that follows
+# temperature and, on EnergyPlus, the weekend days of each month (or whether
+# a day is one). When the right cause is named, extend() adds it and the
+# gain is measured: held-out CVRMSE of the predictive mean and coverage of
+# the true parameters by their 90 % intervals, before and after.
 # Usage, from the package root with bayesbem installed:
 #   Rscript bench/bench-diagnosis.R [simulators] [shapes] [problems]
 #   e.g. embedded,degreeday none,covariate 1-10 (the defaults: all, all, 1-10)
-# BENCH_FITS=<folder> keeps each problem's data and fit for later runs (the
-# diagnosis is then rerun on them); BENCH_EXTEND=false skips the extensions.
+# BENCH_FITS=<folder> keeps the runs and each problem's data and fit for
+# later runs (the diagnosis is then rerun on them); BENCH_EXTEND=false skips
+# the extensions.
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
 arg <- function(k, default) if (length(args) >= k) strsplit(args[k], ",")[[1]] else default
-shapes <- c(none = NA, covariate = "^occupancy$", step = "^after_change$",
-            region = "^rh > ", interaction = "^rh, where temp > ", multiplicative = "^load")
-sims <- arg(1, c("embedded", "degreeday"))
-shapes <- shapes[arg(2, names(shapes))]
+patterns <- c(none = NA, covariate = "^occupancy$", step = "^after_change$",
+              region = "^rh > ", interaction = "^rh, where temp > ", multiplicative = "^load",
+              weekend = "^weekend", drift = "^after_change")
+kind_shapes <- list(embedded = names(patterns)[1:6], degreeday = names(patterns)[1:6],
+                    eplus = c("none", "covariate", "step", "weekend", "drift"),
+                    eplus_daily = c("none", "weekend"))
+sims <- arg(1, names(kind_shapes))
+shapes_asked <- arg(2, names(patterns))
 span <- as.integer(strsplit(arg(3, "1-10"), "-")[[1]])
 problems <- seq(span[1], span[length(span)])
-held_out <- c(2, 7, 11, 16, 21, 24, 26, 31, 35, 40, 45, 48)
 epw <- function(year) system.file("extdata", sprintf("%d_AMY.epw.gz", year), package = "bayesbem")
+fits_dir <- Sys.getenv("BENCH_FITS")
 
 weather <- local({
   years <- rbind(epw_monthly(epw(2012)), epw_monthly(epw(2013)))
@@ -64,74 +81,149 @@ degree_day_simulator <- function(w) {
   name = "degree-day model (kWh)")
 }
 
-make_simulator <- function(kind) {
-  switch(kind, embedded = bem_simulator(weather), degreeday = degree_day_simulator(weather))
+# The EnergyPlus virtual building: the shipped case-study model, its week
+# starting on the weather year's own weekday (the model's run period starts
+# every year on a Sunday), with two parameters that make faults and that
+# the calibration leaves at their initial 0: `weekend_fault`, a measure
+# that runs the plug loads on weekends on the weekday schedule (equipment
+# left on), and `setpoint_drift`, degrees by which the cooling setpoint is
+# lower in 2013 than in 2012.
+eplus_parameters <- unique(eplus_parameter_map()[c("parameter", "initial", "min", "max")])
+eplus_parameters <- rbind(eplus_parameters,
+                          data.frame(parameter = "weekend_fault", initial = 0, min = 0, max = 1))
+weekend_as_weekdays <- function(model, value) {
+  if (value < 0.5) return(model)
+  weekday <- "Building Plug Load Default Weekday Schedule"
+  eplus_set(model, "Schedule:Week:Daily", "Schedule:Week:Daily {80047a7a-8e87-413e-a5e3-e7748404cf92}",
+            `Saturday Schedule:Day Name` = weekday, `Sunday Schedule:Day Name` = weekday)
 }
-calibrated <- list(embedded = c("equipment_power_density", "infiltration_per_exterior_area"),
-                   degreeday = c("heat_loss", "base_load"))
+eplus_year <- function(year, by) {
+  model <- eplus_model(system.file("extdata", "seb_25_2.idf.gz", package = "bayesbem"))
+  start <- c("Sunday", "Monday", "Tuesday", "Wednesday", "Thursday", "Friday",
+             "Saturday")[as.POSIXlt(sprintf("%d-01-01", year))$wday + 1]
+  model <- eplus_set(model, "RunPeriod", "Run Period 1", `Day of Week for Start Day` = start)
+  eplus_simulator(model, epw(year), parameters = eplus_parameters, by = by,
+                  measures = list(weekend_fault = weekend_as_weekdays))
+}
+eplus_monthly_simulator <- function() {
+  years <- lapply(c(2012, 2013), eplus_year, by = "month")
+  drift <- data.frame(parameter = "setpoint_drift", initial = 0, min = 0, max = 3)
+  simulator(function(params, x) {
+    later <- params
+    later$cooling_setpoint <- params$cooling_setpoint - params$setpoint_drift
+    params$setpoint_drift <- later$setpoint_drift <- NULL
+    c(years[[1]]$fun(params, years[[1]]$x), years[[2]]$fun(later, years[[2]]$x))
+  }, x = rbind(years[[1]]$x, years[[2]]$x), parameters = rbind(eplus_parameters, drift),
+  name = "EnergyPlus case study, 2012-2013 by month (kWh)")
+}
+# Every other day of 2013 (183 days).
+eplus_days <- seq(1, 365, by = 2)
+eplus_daily_simulator <- function() {
+  year <- eplus_year(2013, "day")
+  simulator(function(params, x) year$fun(params, year$x)[eplus_days],
+            x = year$x[eplus_days, ], parameters = eplus_parameters,
+            name = "EnergyPlus case study, every other day of 2013 (kWh)")
+}
 
-covariates <- withr::with_seed(99, data.frame(
-  occupancy = round(stats::runif(48), 2),
-  after_change = rep(0:1, c(14, 34)),
-  decoy = weather$temp + stats::rnorm(48, sd = 3)
-))
+# Per simulator: the simulator, the calibrated parameters, the candidates
+# (covariates), the held-out rows and the noise sd.
+make_setting <- function(kind) {
+  sim <- switch(kind, embedded = bem_simulator(weather), degreeday = degree_day_simulator(weather),
+                eplus = eplus_monthly_simulator(), eplus_daily = eplus_daily_simulator())
+  n <- nrow(sim$x)
+  setting <- switch(kind,
+    eplus = list(calibrated = c("equipment_power_density", "dx_cooling_cop"),
+                 held_out = c(2, 7, 11, 16, 21, 24), noise_sd = 40, change = 13,
+                 calendar = function() {
+                   days <- seq(as.Date("2012-01-01"), as.Date("2013-12-31"), by = "day")
+                   weekend <- as.POSIXlt(days)$wday %in% c(0, 6)
+                   data.frame(weekend_days = as.vector(tapply(weekend, format(days, "%Y-%m"), sum)))
+                 }),
+    eplus_daily = list(calibrated = c("equipment_power_density", "dx_cooling_cop"),
+                       held_out = seq(3, n, by = 6), noise_sd = 3, change = 92,
+                       calendar = function() {
+                         days <- as.Date("2013-01-01") + eplus_days - 1
+                         data.frame(weekend = as.numeric(as.POSIXlt(days)$wday %in% c(0, 6)))
+                       }),
+    list(calibrated = if (kind == "embedded") c("equipment_power_density", "infiltration_per_exterior_area")
+                      else c("heat_loss", "base_load"),
+         held_out = c(2, 7, 11, 16, 21, 24, 26, 31, 35, 40, 45, 48), noise_sd = 15, change = 15,
+         calendar = function() NULL))
+  covariates <- withr::with_seed(99, data.frame(
+    occupancy = round(stats::runif(n), 2),
+    after_change = as.numeric(seq_len(n) >= setting$change),
+    decoy = sim$x$temp + stats::rnorm(n, sd = 3)
+  ))
+  covariates <- cbind(setting$calendar(), covariates)
+  ranges <- sim$parameters[match(setting$calibrated, sim$parameters$parameter), ]
+  runs <- simulate_design(sim, design_lhs(ranges, n = 30, seed = 1),
+                          cache_dir = if (nzchar(fits_dir)) file.path(fits_dir, "runs"))
+  c(setting, list(kind = kind, sim = sim, covariates = covariates, ranges = ranges, runs = runs))
+}
+
+# Additive effects in the data, and the faults made inside EnergyPlus (as
+# the true values of the fault parameters).
 effects <- list(
   none = function(d, eta) 0,
   covariate = function(d, eta) 250 * d$occupancy,
   step = function(d, eta) 200 * d$after_change,
   region = function(d, eta) 250 * (d$rh > 47),
   interaction = function(d, eta) 8 * d$rh * (d$temp > 15),
-  multiplicative = function(d, eta) 0.1 * eta
+  multiplicative = function(d, eta) 0.1 * eta,
+  weekend = function(d, eta) 0,
+  drift = function(d, eta) 0
 )
+faults <- list(weekend = list(weekend_fault = 1), drift = list(setpoint_drift = 2))
 
-# The problem's truth, field data and fit to the 36 training months.
-make_problem <- function(kind, sim, runs, shape, k) {
-  ranges <- sim$parameters[match(calibrated[[kind]], sim$parameters$parameter), ]
+# The problem's truth, field data and fit to the training rows.
+make_problem <- function(st, shape, k) {
+  r <- st$ranges
   truth <- withr::with_seed(500 + k, stats::setNames(
-    as.list(stats::runif(nrow(ranges), ranges$min + 0.2 * (ranges$max - ranges$min),
-                         ranges$max - 0.2 * (ranges$max - ranges$min))), ranges$parameter))
-  field <- simulate_field(sim, truth, covariates = covariates, noise_sd = 15, seed = k)
-  field$y <- field$y + effects[[shape]](cbind(sim$x, covariates), attr(field, "simulated"))
+    as.list(stats::runif(nrow(r), r$min + 0.2 * (r$max - r$min), r$max - 0.2 * (r$max - r$min))),
+    r$parameter))
+  field <- simulate_field(st$sim, c(truth, faults[[shape]]), covariates = st$covariates,
+                          noise_sd = st$noise_sd, seed = k)
+  field$y <- field$y + effects[[shape]](field, attr(field, "simulated"))
   base <- suppressWarnings(
-    calibrate(field[-held_out, c("y", "temp", "rh", "solar")], runs, chains = 2, iter = 600,
-              seed = k, cores = 2, control = list(adapt_delta = 0.9), refresh = 0),
+    calibrate(field[-st$held_out, c("y", "temp", "rh", "solar")], st$runs, chains = 2,
+              iter = 600, seed = k, cores = 2, control = list(adapt_delta = 0.9), refresh = 0),
     classes = "bayesbem_warning_convergence")
   list(truth = truth, field = field, base = base)
 }
 
-cached_problem <- function(kind, sim, runs, shape, k) {
-  folder <- Sys.getenv("BENCH_FITS")
-  file <- file.path(folder, sprintf("diagnosis_%s_%s_%d.rds", kind, shape, k))
-  if (nzchar(folder) && file.exists(file)) return(readRDS(file))
-  problem <- make_problem(kind, sim, runs, shape, k)
-  if (nzchar(folder)) saveRDS(problem, file)
+cached_problem <- function(st, shape, k) {
+  file <- file.path(fits_dir, sprintf("diagnosis_%s_%s_%d.rds", st$kind, shape, k))
+  if (nzchar(fits_dir) && file.exists(file)) return(readRDS(file))
+  problem <- make_problem(st, shape, k)
+  if (nzchar(fits_dir)) saveRDS(problem, file)
   problem
 }
 
-one_problem <- function(kind, sim, runs, shape, k) {
-  problem <- cached_problem(kind, sim, runs, shape, k)
+one_problem <- function(st, shape, k) {
+  problem <- cached_problem(st, shape, k)
   truth <- problem$truth
   field <- problem$field
   base <- problem$base
-  ex <- explain_discrepancy(base, covariates[-held_out, ], n_null = 1000, seed = k)
+  train_covariates <- st$covariates[-st$held_out, , drop = FALSE]
+  ex <- explain_discrepancy(base, train_covariates, n_null = 1000, seed = k)
   named <- ex$candidate[ex$explains]
   ambiguous <- attr(ex, "ambiguous")
-  is_right <- function(name) !is.na(shapes[[shape]]) && grepl(shapes[[shape]], name)
+  is_right <- function(name) !is.na(patterns[[shape]]) && grepl(patterns[[shape]], name)
   right <- length(named) > 0 && is_right(named[1])
   scores <- function(f) {
-    pred <- predict(f, field[held_out, c("temp", "rh", "solar", names(covariates))])
+    pred <- predict(f, field[st$held_out, c("temp", "rh", "solar", names(st$covariates))])
     s <- summary(f)$parameters
-    c(cvrmse = cvrmse(field$y[held_out], pred$mean),
+    c(cvrmse = cvrmse(field$y[st$held_out], pred$mean),
       covered = sum(s$q5 <= unlist(truth)[rownames(s)] & unlist(truth)[rownames(s)] <= s$q95))
   }
   before <- scores(base)
   after <- if (right && Sys.getenv("BENCH_EXTEND") != "false") {
-    scores(suppressWarnings(extend(base, with = named[1], covariates = covariates[-held_out, ],
+    scores(suppressWarnings(extend(base, with = named[1], covariates = train_covariates,
                                    refresh = 0), classes = "bayesbem_warning_convergence"))
   } else {
     c(cvrmse = NA, covered = NA)
   }
-  data.frame(simulator = kind, shape = shape, problem = k,
+  data.frame(simulator = st$kind, shape = shape, problem = k,
              named = if (length(named) > 0) named[1] else "nothing",
              ambiguous = paste(ambiguous, collapse = "; "),
              right = right && length(ambiguous) == 0,
@@ -146,12 +238,10 @@ one_problem <- function(kind, sim, runs, shape, k) {
 
 rows <- list()
 for (kind in sims) {
-  sim <- make_simulator(kind)
-  ranges <- sim$parameters[match(calibrated[[kind]], sim$parameters$parameter), ]
-  runs <- simulate_design(sim, design_lhs(ranges, n = 30, seed = 1))
-  for (shape in names(shapes)) for (k in problems) {
+  st <- make_setting(kind)
+  for (shape in intersect(shapes_asked, kind_shapes[[kind]])) for (k in problems) {
     start <- proc.time()[["elapsed"]]
-    row <- one_problem(kind, sim, runs, shape, k)
+    row <- one_problem(st, shape, k)
     row$seconds <- proc.time()[["elapsed"]] - start
     print(row, row.names = FALSE, digits = 3)
     rows[[length(rows) + 1L]] <- row

@@ -19,14 +19,18 @@ test_that("each hidden effect is flagged and its cause ranks first", {
 
 test_that("an effect in part of another input's range is named with both inputs", {
   skip_on_cran()
-  # occupancy costs energy only where temp > 15: the region term at the
-  # nearest quantile (14) explains nearly all of the residual
+  # occupancy costs energy only where temp > 15: the region term, its cut
+  # refined into the gap of the fitted months' temperatures that holds 15,
+  # explains nearly all of the residual
   case <- synthetic_case("interaction")
   ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, seed = 1)
-  expect_match(ex$candidate[1], "^occupancy, where temp > 14")
+  expect_match(ex$candidate[1], "^occupancy, where temp > ")
+  temp <- case$field$temp[-synthetic_held_out]
+  cut <- bayesbem:::parse_region(ex$candidate[1])$cut
+  expect_true(cut > max(temp[temp <= 15]) && cut < min(temp[temp > 15]))
   expect_true(ex$explains[1])
   expect_gt(ex$share[1], 0.7)
-  expect_match(attr(ex, "verdict"), "occupancy, where temp > 14")
+  expect_match(attr(ex, "verdict"), ex$candidate[1], fixed = TRUE)
 })
 
 test_that("a correct simulator gets no cause in the large majority of data draws", {
@@ -218,4 +222,35 @@ test_that("on simulated nulls each family of terms holds its share of alpha", {
   # binomial(100, 0.04) exceeds 10 with probability 0.003; binomial(100, 0.01) exceeds 5 with 0.0006
   expect_lte(sum(alarms["main", ]), 10)
   expect_lte(sum(alarms["region", ]), 5)
+})
+
+test_that("a named region's cut moves to the gap where the effect's edge is", {
+  # a step of 250 where rh > 47 plus noise, 36 rows: the candidate grid's
+  # cuts (quartiles, tertiles, median) miss the gap holding 47; refinement
+  # finds it, for the step and for a covariate's effect there
+  withr::local_seed(3)
+  n <- 36
+  table <- data.frame(rh = round(stats::runif(n, 30, 60), 1), occupancy = stats::runif(n))
+  gap <- c(max(table$rh[table$rh <= 47]), min(table$rh[table$rh > 47]))
+  grid <- bayesbem:::region_cuts(table$rh)
+  expect_false(any(grid > gap[1] & grid < gap[2]))
+  nearest <- grid[which.min(abs(grid - 47))]
+  nuisance <- qr(matrix(1, n))
+  for (effect in c("", "occupancy")) {
+    size <- if (nzchar(effect)) table$occupancy else 1
+    r <- 250 * size * (table$rh > 47) + stats::rnorm(n, sd = 5)
+    free <- qr.resid(nuisance, r)
+    named <- bayesbem:::region_label(effect, "rh", ">", nearest)
+    refined <- bayesbem:::refine_region(named, table, free, nuisance)
+    cut <- bayesbem:::parse_region(refined)$cut
+    expect_true(cut > gap[1] && cut < gap[2], label = refined)
+    expect_identical(bayesbem:::parse_region(refined)$effect, effect)
+  }
+  # inputs equal but for rounding have no split a name can state
+  close <- data.frame(rh = c(1:10, 10 + 1e-14, 41:50))
+  expect_false(grepl("NA", bayesbem:::refine_region("rh > 25.5", close, stats::rnorm(21),
+                                                    qr(matrix(1, 21)))))
+  # a cut with no other split between its neighbours stays
+  expect_identical(bayesbem:::refine_region("rh > 47", data.frame(rh = c(1:5, 50:54)), 1:10,
+                                            qr(matrix(1, 10))), "rh > 47")
 })
