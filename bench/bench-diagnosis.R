@@ -154,7 +154,8 @@ make_setting <- function(kind) {
     after_change = as.numeric(seq_len(n) >= setting$change),
     decoy = sim$x$temp + stats::rnorm(n, sd = 3)
   ))
-  covariates <- cbind(setting$calendar(), covariates)
+  calendar <- setting$calendar()
+  if (!is.null(calendar)) covariates <- cbind(calendar, covariates)
   ranges <- sim$parameters[match(setting$calibrated, sim$parameters$parameter), ]
   runs <- simulate_design(sim, design_lhs(ranges, n = 30, seed = 1),
                           cache_dir = if (nzchar(fits_dir)) file.path(fits_dir, "runs"))

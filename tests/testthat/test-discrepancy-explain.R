@@ -224,6 +224,19 @@ test_that("on simulated nulls each family of terms holds its share of alpha", {
   expect_lte(sum(alarms["region", ]), 5)
 })
 
+test_that("an effect in humid months is named as a region of humidity at its edge", {
+  skip_on_cran()
+  # 250 kWh where rh > 47: with regions, the first cause is a region of rh
+  # (the step itself or a nested shape of it), cut in the gap that holds 47
+  case <- synthetic_case("input")
+  ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, seed = 1)
+  region <- bayesbem:::parse_region(ex$candidate[1])
+  expect_true(ex$explains[1])
+  expect_identical(c(region$input, region$side), c("rh", ">"))
+  rh <- case$field$rh[-synthetic_held_out]
+  expect_true(region$cut > max(rh[rh <= 47]) && region$cut < min(rh[rh > 47]))
+})
+
 test_that("a named region's cut moves to the gap where the effect's edge is", {
   # a step of 250 where rh > 47 plus noise, 36 rows: the candidate grid's
   # cuts (quartiles, tertiles, median) miss the gap holding 47; refinement
