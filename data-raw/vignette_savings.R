@@ -7,8 +7,5 @@
 # installed (BAYESBEM_EPLUS or EnergyPlus on the PATH):
 #   Rscript data-raw/vignette_savings.R
 stopifnot(bayesbem::eplus_available())
-Sys.setenv(BAYESBEM_RECOMPUTE = "true",
-           BAYESBEM_SAVINGS_OUT = file.path(normalizePath("inst/extdata"),
-                                            "vignette-savings.rds"))
-rmarkdown::render("vignettes/savings.Rmd", output_dir = tempdir(), quiet = TRUE)
-cat("Saved", Sys.getenv("BAYESBEM_SAVINGS_OUT"), "\n")
+source("data-raw/render_vignette.R")
+render_recomputed("savings.Rmd", "BAYESBEM_SAVINGS_OUT", "vignette-savings.rds")

@@ -5,8 +5,5 @@
 # Rerun after changing the studies, the Stan programs or the embedded model.
 # Run from the package root with the package installed (about 5 minutes on
 # 2 cores): Rscript data-raw/vignette_studies.R
-Sys.setenv(BAYESBEM_RECOMPUTE = "true",
-           BAYESBEM_STUDIES_OUT = file.path(normalizePath("inst/extdata"),
-                                            "vignette-studies.rds"))
-rmarkdown::render("vignettes/calibration.Rmd", output_dir = tempdir(), quiet = TRUE)
-cat("Saved", Sys.getenv("BAYESBEM_STUDIES_OUT"), "\n")
+source("data-raw/render_vignette.R")
+render_recomputed("calibration.Rmd", "BAYESBEM_STUDIES_OUT", "vignette-studies.rds")

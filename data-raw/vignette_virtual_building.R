@@ -8,8 +8,5 @@
 # or EnergyPlus on the PATH):
 #   Rscript data-raw/vignette_virtual_building.R
 stopifnot(bayesbem::eplus_available())
-Sys.setenv(BAYESBEM_RECOMPUTE = "true",
-           BAYESBEM_VIRTUAL_OUT = file.path(normalizePath("inst/extdata"),
-                                            "vignette-virtual-building.rds"))
-rmarkdown::render("vignettes/discrepancy.Rmd", output_dir = tempdir(), quiet = TRUE)
-cat("Saved", Sys.getenv("BAYESBEM_VIRTUAL_OUT"), "\n")
+source("data-raw/render_vignette.R")
+render_recomputed("discrepancy.Rmd", "BAYESBEM_VIRTUAL_OUT", "vignette-virtual-building.rds")
