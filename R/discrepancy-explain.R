@@ -84,11 +84,11 @@
 #' @param ndraws Number of posterior draws (evenly spaced); all by default.
 #' @param regions Also try steps in each input and each candidate's effect
 #'   in part of another input's range (see Details); [extend()] takes the
-#'   names it gives. With regions, false alarms stay near `alpha` and an
+#'   names it gives. With regions, false alarms stay near `alpha`
+#'   (`bench/RESULTS.md`, "Diagnosis on problems not tuned on") and an
 #'   effect acting only in warm months is named with its region, which the
-#'   candidates alone miss (`bench/RESULTS.md`, "False alarms and
-#'   detection"). `FALSE` scores the candidates alone (faster: a few terms
-#'   instead of hundreds).
+#'   candidates alone miss ("False alarms and detection"). `FALSE` scores
+#'   the candidates alone (faster: a few terms instead of hundreds).
 #' @param seed Random seed of the null residuals.
 #' @return A data frame of class `bayesbem_explanation`, the explaining candidates
 #'   first, each group by `share`: `candidate`, `share`, `lower`, `upper`
