@@ -151,7 +151,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   out <- out[order(!out$explains, -out$share), ]
   rownames(out) <- NULL
   shares <- stats::setNames(lapply(scores, `[[`, "shares"), names(terms))
-  ambiguous <- ambiguous_with(out, terms, shares, mean_residual, nuisance)
+  ambiguous <- ambiguous_with(out, terms, shares, free, nuisance)
   structure(out, class = c("bayesbem_explanation", "data.frame"), level = level, alpha = alpha,
             ambiguous = ambiguous, verdict = explanation_verdict(out, level, ambiguous))
 }
@@ -182,16 +182,12 @@ press <- function(x, r) {
 # and draw). Terms are of one cause when one's variables include the
 # other's ("rh > 47" and "solar, where rh > 47"; "temp > 15" and "rh,
 # where temp > 15"): a shape of the same effect, not another explanation.
-ambiguous_with <- function(x, terms, shares, r, nuisance) {
+ambiguous_with <- function(x, terms, shares, free, nuisance) {
   named <- x$candidate[x$explains]
   if (length(named) < 2L) {
     return(character(0))
   }
-  free <- qr.resid(nuisance, r)
-  r2 <- function(names) {
-    b <- qr.resid(nuisance, do.call(cbind, unname(terms[names])))
-    sum(qr.fitted(qr(b), free)^2) / sum(free^2)
-  }
+  r2 <- function(names) free_r_squared(do.call(cbind, unname(terms[names])), free, nuisance)
   nested <- function(a, b) {
     all(term_variables(a) %in% term_variables(b)) || all(term_variables(b) %in% term_variables(a))
   }
@@ -329,11 +325,16 @@ refine_region <- function(name, candidates, free, nuisance) {
     return(name)
   }
   labels <- region_label(parts$effect, parts$input, parts$side, cuts)
-  explained <- vapply(labels, function(l) {
-    b <- qr.resid(nuisance, region_values(l, candidates))
-    sum(b * free)^2 / sum(b^2)
-  }, numeric(1))
+  explained <- vapply(labels, function(l) free_r_squared(region_values(l, candidates), free, nuisance),
+                      numeric(1))
   labels[which.max(explained)]
+}
+
+# R^2 of the posterior mean residual beyond recalibration (`free`, already
+# orthogonal to `nuisance`) by the columns of `b`, made orthogonal too.
+free_r_squared <- function(b, free, nuisance) {
+  b <- qr.resid(nuisance, cbind(b))
+  sum(qr.fitted(qr(b), free)^2) / sum(free^2)
 }
 
 # The values of a region term named as explain_discrepancy() prints it ("a,
