@@ -1,5 +1,5 @@
 # Precomputes the EnergyPlus data of vignettes/discrepancy.Rmd, section 6
-# (the virtual building: about 30 EnergyPlus runs, two minutes) by rendering
+# (the virtual building) by rendering
 # it with the computations switched on; it stores the field data, the runs,
 # the weekend flags and the truth in inst/extdata/vignette-virtual-building.rds,
 # which the vignette loads otherwise (it fits and diagnoses them itself).
