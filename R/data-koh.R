@@ -50,6 +50,18 @@
 #' except in two problems with 10 runs; see `bench/RESULTS.md` for what
 #' that does to convergence. `scales = "identity"` is the paper's model.
 #'
+#' @section Several outputs: Field data and runs of several outputs (meters:
+#'   electricity and gas bills, say) come as long tables with a column
+#'   naming each row's output, `output` by default. Each output then gets a
+#'   data set of its own, as above: its output standardised on its own
+#'   (bills stay in their units), its own periods (a gas meter read on
+#'   other days, a month without a bill) and its own grid; the outputs share
+#'   the calibration parameters, their scales (with `scales = "auto"`, a
+#'   parameter takes the scale the first output whose emulator gains by one
+#'   chose) and the runs: every output needs the outputs of the same runs
+#'   (one run gives every meter, as [simulate_design()] writes them), each
+#'   at all of its field inputs. An output one table has and the other
+#'   lacks is an error that names it.
 #' @param field A data frame (or numeric matrix) of field data.
 #' @param sim A data frame (or numeric matrix) of simulation runs.
 #' @param y,eta Names of the output column in `field` and in `sim`; by
@@ -78,12 +90,17 @@
 #'   parameters `"identity"`, `"log"` or `"reciprocal"` (the others keep
 #'   the identity), e.g. `c(fan_total_efficiency = "reciprocal")`. Reports
 #'   and draws are always in physical units.
+#' @param output Name of the column of both tables that names each row's
+#'   output (see "Several outputs"); by default `"output"` when both tables
+#'   have it, else there is one output.
 #' @return An object of class `bayesbem_data`: the scaled matrices `y`, `eta`,
 #'   `xf`, `xc`, `tc`, the column names, the sizes `n`, `m`, `p`, `q`, the
 #'   `scaling` constants, and `grid`: the layout of the runs when every run
 #'   was made at every field input, and possibly at further inputs such as
 #'   those of held-out periods (`NULL` otherwise), which lets [calibrate()]
-#'   use the fast Kronecker likelihood.
+#'   use the fast Kronecker likelihood. With several outputs, an object of
+#'   class `bayesbem_outputs`: `outputs`, the `bayesbem_data` of each output
+#'   by name, and the names and scaling they share.
 #' @family data preparation
 #' @export
 #' @examples
@@ -94,9 +111,15 @@
 #'          t = c("fan_total_efficiency", "equipment_power_density",
 #'                "infiltration_per_exterior_area"))
 koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, period = NULL,
-                     grid_tol = NULL, scales = "auto") {
+                     grid_tol = NULL, scales = "auto", output = NULL) {
   field <- as_numeric_table(field)
   sim <- as_numeric_table(sim)
+  output <- outputs_column(field, sim, output)
+  if (!is.null(output)) {
+    args <- list(y = y, eta = eta, x = x, t = t, period = period, grid_tol = grid_tol,
+                 scales = scales)
+    return(koh_data_outputs(field, sim, output, args))
+  }
   period <- period_column(field, period)
   cols <- koh_columns(field[setdiff(names(field), period)], sim, y = y, eta = eta, x = x, t = t)
   cols$period <- period
@@ -163,9 +186,10 @@ field_table <- function(data) {
   data$field[c(data$names$y, data$names$x, data$names$period)]
 }
 
-# `field` itself when it is a bayesbem_data object, else koh_data(field, sim).
+# `field` itself when it is a bayesbem_data or bayesbem_outputs object, else
+# koh_data(field, sim).
 as_koh_data <- function(field, sim) {
-  if (inherits(field, "bayesbem_data")) field else koh_data(field, sim)
+  if (inherits(field, c("bayesbem_data", "bayesbem_outputs"))) field else koh_data(field, sim)
 }
 
 #' @export

@@ -24,7 +24,9 @@
 #' parameters elsewhere (see `minor_modes` in [calibrate()]), the hint names
 #' them and advises checking the emulator over both modes.
 #'
-#' @param fit A `bayesbem_fit`.
+#' @param fit A `bayesbem_fit`, or a fit on several outputs (the shared
+#'   parameters are checked once, each output's own under its name,
+#'   `"gas:lambda_e"`).
 #' @param rhat_max R-hat at or above which a parameter has not converged.
 #' @param ess_min Smallest acceptable bulk and tail ESS; by default 100 per
 #'   chain (400 for 4 chains).
@@ -42,19 +44,36 @@
 check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 0.3,
                               warn = TRUE) {
   ess_min <- ess_min %||% (100 * kept_chains(fit))
-  s <- summarise_fit(fit, rhat = posterior::rhat, ess_bulk = posterior::ess_bulk,
-                     ess_tail = posterior::ess_tail)
-  s <- s[!s$variable %in% fixed_variables(fit), , drop = FALSE]
+  s <- convergence_rows(fit)
   rownames(s) <- NULL
   sampler <- fit_sampler_diagnostics(fit)
   s$ok <- s$rhat < rhat_max & s$ess_bulk >= ess_min & s$ess_tail >= ess_min
   out <- structure(s, class = c("bayesbem_convergence", "data.frame"), sampler = sampler,
                    thresholds = list(rhat_max = rhat_max, ess_min = ess_min,
                                      ebfmi_min = ebfmi_min),
-                   emulator = emulator_variables(fit),
+                   emulator = if (!inherits(fit, "bayesbem_outputs_fit")) emulator_variables(fit),
                    kept_moved = fit$settings$kept_moved %||% integer(0))
   if (warn) warn_convergence(out)
   out
+}
+
+# R-hat and ESS of the variables a fit samples; for a fit on several
+# outputs, the shared parameters once and each output's own under its name
+# (prefix_output()).
+convergence_rows <- function(fit) {
+  if (inherits(fit, "bayesbem_outputs_fit")) {
+    shared <- fit$data$names$t
+    rows <- lapply(names(fit$outputs), function(k) {
+      s <- convergence_rows(fit$outputs[[k]])
+      if (k != names(fit$outputs)[1]) s <- s[!s$variable %in% shared, , drop = FALSE]
+      s$variable <- prefix_output(s$variable, k, shared)
+      s
+    })
+    return(do.call(rbind, rows))
+  }
+  s <- summarise_fit(fit, rhat = posterior::rhat, ess_bulk = posterior::ess_bulk,
+                     ess_tail = posterior::ess_tail)
+  s[!s$variable %in% fixed_variables(fit), , drop = FALSE]
 }
 
 # The names of the emulator's hyperparameters in the convergence table: its

@@ -75,11 +75,21 @@ refit <- function(fit, ...) {
                structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
                emulator = if (isTRUE(settings$modular)) settings$emulator %||% "separable" else "auto",
                minor_modes = settings$minor_modes %||% "keep",
-               covariates = fit$data$covariates)
+               covariates = fit_covariates(fit))
   # replaced whole, not merged: a new bayesbem_data or priors is a list too
   changes <- list(...)
   args[names(changes)] <- changes
   do.call(calibrate, args)
+}
+
+# A fit's discrepancy terms as calibrate() takes them: a table, or on
+# several outputs a list of tables by output (those with terms).
+fit_covariates <- function(fit) {
+  if (!inherits(fit, "bayesbem_outputs_fit")) {
+    return(fit$data$covariates)
+  }
+  terms <- Filter(Negate(is.null), lapply(fit$data$outputs, `[[`, "covariates"))
+  if (length(terms) > 0L) terms
 }
 
 # The discrepancy terms of an extension: the fit's, plus `with` taken from

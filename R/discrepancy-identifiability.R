@@ -36,7 +36,16 @@
 #' 0.5, and **learnt** below (the posterior is less than half as wide as the
 #' prior).
 #'
-#' @param fit A `bayesbem_fit`.
+#' On a fit on several outputs, the spreads are the shared parameters' and
+#' each output gets its own `shift_<output>` (its own discrepancy's hold on
+#' each parameter; a parameter is confounded with the discrepancy of the
+#' outputs where `|shift| > 2`) and `informed_by_<output>`: the output's
+#' share of what the data say about each parameter, `s' Sigma^-1 s` (the
+#' Fisher information of the output's field data about the parameter,
+#' `Sigma` their covariance given the runs: emulator, discrepancy and
+#' noise; median over draws) over its sum over the outputs.
+#'
+#' @param fit A `bayesbem_fit`, or a fit on several outputs.
 #' @param ndraws Number of posterior draws (evenly spaced) to compute the
 #'   sensitivities and projections at (the spreads use all draws).
 #' @param refit Also calibrate without the discrepancy (one more fit with the
@@ -51,9 +60,12 @@
 #' identifiability(seb_fit, ndraws = 50)
 identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
   rlang::check_dots_empty()
-  check_fit(fit)
   check_count(ndraws)
   check_bool(refit)
+  if (inherits(fit, "bayesbem_outputs_fit")) {
+    return(identifiability_outputs(fit, ndraws, refit))
+  }
+  check_fit(fit)
   data <- fit$data
   g <- gp_geometry(data, scale_newdata(data, field_inputs(data)[data$names$x]),
                    fit_structure(fit), fit$emulator$basis)
@@ -76,11 +88,66 @@ identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
                     alignment = apply(alignment, 2, stats::median), row.names = NULL)
   if (refit) out$moved <- moved_by_discrepancy(fit, posterior_sd_unit)
   confounded <- abs(out$shift) > 2 | (if (refit) abs(out$moved) > 2 else FALSE)
-  out$verdict <- ifelse(confounded, "confounded with the discrepancy",
-                        ifelse(out$sd_ratio > 0.8, "prior-driven",
-                               ifelse(out$sd_ratio > 0.5, "partly learnt", "learnt")))
+  out$verdict <- identifiability_verdict(out$sd_ratio, ifelse(confounded, "the discrepancy", ""))
   structure(out, class = c("bayesbem_identifiability", "data.frame"),
             summary = identifiability_summary(out))
+}
+
+# "confounded with <what>" where `confounded` names what, else the band of
+# sd_ratio.
+identifiability_verdict <- function(sd_ratio, confounded) {
+  ifelse(nzchar(confounded), paste("confounded with", confounded),
+         ifelse(sd_ratio > 0.8, "prior-driven",
+                ifelse(sd_ratio > 0.5, "partly learnt", "learnt")))
+}
+
+# identifiability() of a fit on several outputs (see its Details).
+identifiability_outputs <- function(fit, ndraws, refit) {
+  outputs <- names(fit$outputs)
+  per <- lapply(fit$outputs, identifiability, ndraws = ndraws)
+  information <- vapply(fit$outputs, output_information, numeric(fit$data$q), ndraws = ndraws)
+  information <- matrix(information, ncol = length(outputs))
+  out <- per[[1]][c("parameter", "prior_sd", "posterior_sd", "sd_ratio")]
+  for (k in seq_along(outputs)) {
+    out[[paste0("informed_by_", outputs[k])]] <- information[, k] / rowSums(information)
+  }
+  shifts <- vapply(per, `[[`, numeric(nrow(out)), "shift")
+  shifts <- matrix(shifts, ncol = length(outputs))
+  for (k in seq_along(outputs)) out[[paste0("shift_", outputs[k])]] <- shifts[, k]
+  if (refit) {
+    posterior_sd_unit <- apply(as.matrix(fit$stanfit, pars = "tf"), 2, stats::sd)
+    out$moved <- moved_by_discrepancy(fit, posterior_sd_unit)
+  }
+  confounded <- vapply(seq_len(nrow(out)), function(j) {
+    which <- outputs[abs(shifts[j, ]) > 2]
+    if (length(which) > 0L) return(paste("the", and_list(which), "discrepancy"))
+    if (refit && abs(out$moved[j]) > 2) "the discrepancies" else ""
+  }, character(1))
+  out$verdict <- identifiability_verdict(out$sd_ratio, confounded)
+  informs <- vapply(seq_len(nrow(out)), function(j) {
+    k <- which.max(information[j, ])
+    sprintf("%s %s (%.0f%%)", out$parameter[j], outputs[k], 100 * information[j, k] / sum(information[j, ]))
+  }, character(1))
+  structure(out, class = c("bayesbem_identifiability", "data.frame"),
+            summary = paste(identifiability_summary(out),
+                            sprintf("The output that says most about each parameter: %s.",
+                                    paste(informs, collapse = "; "))))
+}
+
+# What an output's field data say about each calibration parameter: the
+# Fisher information s' Sigma^-1 s about tf (scaled), s the emulator
+# mean's sensitivity to the parameter at the field rows (runs_sensitivity())
+# and Sigma the field outputs' covariance given the runs (runs_field():
+# emulator, discrepancy and noise), in the output's standardised units;
+# the median over `ndraws` draws.
+output_information <- function(fit, ndraws) {
+  data <- fit$data
+  g <- gp_geometry(data, structure = fit_structure(fit), basis = fit$emulator$basis)
+  per_draw <- vapply(draw_parameters(fit, ndraws), function(par) {
+    white <- backsolve(chol(runs_field(g, par)$cov), runs_sensitivity(g, par), transpose = TRUE)
+    colSums(white^2)
+  }, numeric(data$q))
+  apply(matrix(per_draw, nrow = data$q), 1, stats::median)
 }
 
 # How far the discrepancy moved each parameter: the posterior mean with it
@@ -134,10 +201,10 @@ identifiability_summary <- function(x) {
       sprintf("The data say little about %s: %s posterior is close to its prior.",
               paste(group("prior-driven"), collapse = ", "),
               if (length(group("prior-driven")) > 1L) "their" else "its"),
-    if (length(group("confounded with the discrepancy")) > 0L)
+    if (any(startsWith(x$verdict, "confounded")))
       sprintf("The discrepancy holds the effect of %s: %s posterior is not where the data alone would put it (a prior or a missing mechanism holds it there).",
-              paste(group("confounded with the discrepancy"), collapse = ", "),
-              if (length(group("confounded with the discrepancy")) > 1L) "their" else "its")
+              paste(x$parameter[startsWith(x$verdict, "confounded")], collapse = ", "),
+              if (sum(startsWith(x$verdict, "confounded")) > 1L) "their" else "its")
   )
   paste(parts, collapse = " ")
 }

@@ -109,16 +109,21 @@ basis_field <- function(g, par) {
 }
 
 # The data of koh_basis.stan: stage 2's common data (stage2_stan_data())
-# and the pieces of the basis emulator, `emulator$basis`.
+# and the pieces of each output's basis emulator (`emulator$basis`),
+# stacked by output: its rows and its components a block of the bases `B`.
 basis_stan_data <- function(data, priors, emulator) {
-  basis <- emulator$basis
-  gps <- basis$components
-  mt <- nrow(basis$tc)
+  bases <- lapply(output_emulators(data, emulator), `[[`, "basis")
+  gps <- unlist(lapply(bases, `[[`, "components"), recursive = FALSE)
+  mt <- nrow(bases[[1]]$tc)
   field <- function(name, size) matrix(vapply(gps, `[[`, numeric(size), name), ncol = length(gps))
+  q <- ncol(bases[[1]]$tc)
   c(stage2_stan_data(data, priors, emulator),
     list(tf_edge = linear_box$edge, tf_multiplier = linear_box$multiplier,
-         pc = length(gps), mu_f = basis$mu, B = basis$B, s2r = basis$s2r,
-         w_coef = field("b", data$q + 1), w_beta = field("beta", data$q),
+         pc = length(gps),
+         pc_output = as.array(rep(seq_along(bases), vapply(bases, function(b) ncol(b$B), integer(1)))),
+         mu_f = unlist(lapply(bases, `[[`, "mu")), B = block_diagonal(lapply(bases, `[[`, "B")),
+         s2r = as.array(vapply(bases, `[[`, numeric(1), "s2r")),
+         w_coef = field("b", q + 1), w_beta = field("beta", q),
          w_s2 = as.array(vapply(gps, `[[`, numeric(1), "s2")),
          w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
          w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))

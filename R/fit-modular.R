@@ -100,22 +100,94 @@ emulator_searches_label <- function(searches) {
   sprintf("%d of %d searches reached it", searches_at_mode(searches), length(searches))
 }
 
-# The data every stage-2 program takes: the field data, the priors and the
-# separable stage-1 emulator (which koh_basis.stan passes through for
-# predictions).
-stage2_stan_data <- function(data, priors, emulator) {
-  c(list(n = data$n, mt = data$grid$mt, p = data$p, q = data$q, y = data$y,
-         xf = data$grid$x[seq_len(data$n), , drop = FALSE], tc = data$grid$design,
-         lapack = as.integer(use_lapack())),
-    koh_prior_data(data, priors),
-    list(beta_eta_fixed = as.array(emulator$beta_eta), lambda_eta_fixed = emulator$lambda_eta,
-         b_fixed = as.array(emulator$b)))
+# Starting values given as a list per chain (rstan::sampling()'s `init`), as
+# the stage-2 programs take them: lambda_delta and lambda_e are vectors, one
+# element per output, and a basis fit samples tf as tf_u (basis_inits()).
+stage2_inits <- function(init, emulator) {
+  if (emulator == "basis") init <- basis_inits(init)
+  if (!is.list(init)) {
+    return(init)
+  }
+  lapply(init, function(chain) {
+    for (par in intersect(c("lambda_delta", "lambda_e"), names(chain))) {
+      chain[[par]] <- as.array(chain[[par]])
+    }
+    chain
+  })
 }
 
-# The data of koh_modular.stan: stage2_stan_data() and the fixed emulator's
-# pieces (the runs at the field inputs less the emulator mean, the field
-# block of Kx, the Cholesky factor of Kt).
+# The data every stage-2 program takes, for one output or several (`data` a
+# bayesbem_data or bayesbem_outputs object, `emulator` its stage-1 emulator
+# or their list): the field data stacked by output (each on its own
+# scaling), the runs' design they share, the priors, the discrepancy terms
+# of each output in its own columns (zero in the others' rows), and the
+# separable stage-1 emulators, one column each (koh_basis.stan passes them
+# through for predictions).
+stage2_stan_data <- function(data, priors, emulator) {
+  outputs <- output_data(data)
+  emulators <- output_emulators(data, emulator)
+  first <- outputs[[1]]
+  field_rows <- function(d) seq_len(d$n)
+  prior <- koh_prior_data(first, priors)
+  terms <- lapply(outputs, function(d) koh_prior_data(d, priors)$h)
+  prior$h <- block_diagonal(terms)
+  prior$n_h <- ncol(prior$h)
+  c(list(n = sum(vapply(outputs, `[[`, integer(1), "n")), mt = first$grid$mt, p = first$p,
+         q = first$q, y = unlist(lapply(outputs, `[[`, "y")),
+         xf = do.call(rbind, lapply(outputs, function(d) d$grid$x[field_rows(d), , drop = FALSE])),
+         tc = first$grid$design, K = length(outputs),
+         output = as.array(rep(seq_along(outputs), vapply(outputs, `[[`, integer(1), "n"))),
+         lapack = as.integer(use_lapack())),
+    prior,
+    list(beta_eta_fixed = emulator_columns(emulators, "beta_eta"),
+         lambda_eta_fixed = as.array(vapply(emulators, `[[`, numeric(1), "lambda_eta")),
+         b_fixed = emulator_columns(emulators, "b")))
+}
+
+# The one-output data sets of a data set, and their stage-1 emulators in the
+# same order.
+output_data <- function(data) {
+  if (inherits(data, "bayesbem_outputs")) data$outputs else list(data)
+}
+
+output_emulators <- function(data, emulator) {
+  if (inherits(data, "bayesbem_outputs")) emulator else list(emulator)
+}
+
+# One column per output of a stage-1 emulator's element (beta_eta, b).
+emulator_columns <- function(emulators, name) {
+  matrix(unlist(lapply(emulators, `[[`, name)), ncol = length(emulators))
+}
+
+# The matrices of `blocks` on the diagonal of one matrix, zero elsewhere.
+block_diagonal <- function(blocks) {
+  rows <- vapply(blocks, nrow, integer(1))
+  cols <- vapply(blocks, ncol, integer(1))
+  out <- matrix(0, sum(rows), sum(cols))
+  for (k in seq_along(blocks)) {
+    out[sum(rows[seq_len(k - 1L)]) + seq_len(rows[k]),
+        sum(cols[seq_len(k - 1L)]) + seq_len(cols[k])] <- blocks[[k]]
+  }
+  out
+}
+
+# The data of koh_modular.stan: stage2_stan_data() and each output's fixed
+# emulator's pieces, stacked by output: the runs at the field inputs less
+# the emulator mean, the field block of Kx (its first columns), the
+# Cholesky factor of Kt.
 modular_stan_data <- function(data, priors, emulator) {
+  pieces <- Map(modular_pieces, output_data(data), output_emulators(data, emulator),
+                MoreArgs = list(priors = priors))
+  kx <- lapply(pieces, `[[`, "Kx_ff")
+  n_max <- max(vapply(kx, nrow, integer(1)))
+  c(stage2_stan_data(data, priors, emulator),
+    list(n_max = n_max, E_f = do.call(rbind, lapply(pieces, `[[`, "E_f")),
+         Kx_ff = do.call(rbind, lapply(kx, function(k) cbind(k, matrix(0, nrow(k), n_max - ncol(k))))),
+         Lt = do.call(rbind, lapply(pieces, `[[`, "Lt"))))
+}
+
+# One output's pieces of modular_stan_data().
+modular_pieces <- function(data, emulator, priors) {
   grid <- data$grid
   n <- data$n
   p <- data$p
@@ -126,8 +198,7 @@ modular_stan_data <- function(data, priors, emulator) {
   beta_t <- emulator$beta_eta[-seq_len(p)]
   E <- grid_runs(data)[seq_len(n), , drop = FALSE]
   kt <- jittered_cor(pair_geometry(grid$design, grid$design), beta_t, priors$nugget)
-  c(stage2_stan_data(data, priors, emulator),
-    list(E_f = E - grid_mean(xf, grid$design, coef),
-         Kx_ff = jittered_cor(pair_geometry(xf, xf), beta_x, priors$nugget),
-         Lt = t(chol(kt))))
+  list(E_f = E - grid_mean(xf, grid$design, coef),
+       Kx_ff = jittered_cor(pair_geometry(xf, xf), beta_x, priors$nugget),
+       Lt = t(chol(kt)))
 }

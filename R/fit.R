@@ -125,6 +125,19 @@
 #'   the Stan program's parameters, `tf` for the calibration parameters on
 #'   \[0, 1\]; a basis fit samples them as `tf_u` (on a scale linear inside
 #'   \[0, 1\]) and converts the `tf` given.
+#' @section Several outputs: On data of several outputs (meters: long
+#'   tables with an `output` column, see [koh_data()]) the fit is modular,
+#'   on each output's grid: stage 1 fits each output's emulator to its
+#'   runs, and stage 2 samples the calibration parameters the outputs share
+#'   with a discrepancy and a noise for each output. Given the parameters
+#'   the outputs are independent, so the log density is the sum of the
+#'   outputs' and a gradient costs the sum of theirs. The result, of class
+#'   `bayesbem_outputs_fit`, prints the shared parameters and each output's
+#'   discrepancy and noise; [output_fit()] gives each output as a fit of its
+#'   own, which every other tool takes, and [predict()] predicts every
+#'   output and their totals. `covariates` is then a list of tables named by
+#'   output, and starting values give `lambda_delta` and `lambda_e` one
+#'   element per output.
 #' @section Linear algebra: With many field rows (daily data) each gradient
 #'   of a grid or modular fit is one Cholesky factor and one inverse of the
 #'   n x n covariance of the field outputs. They are computed by Eigen, or
@@ -140,7 +153,8 @@
 #'   rounding, but a seeded fit repeats exactly only with the same choice.
 #' @return An object of class `bayesbem_fit`: the `stanfit`, the [koh_data()]
 #'   (with its scaling), the priors and the sampler settings. Use `print()`,
-#'   `summary()` and [posterior::as_draws()] on it.
+#'   `summary()` and [posterior::as_draws()] on it. On several outputs, a
+#'   `bayesbem_outputs_fit` (see "Several outputs").
 #' @family calibration
 #' @export
 #' @examples
@@ -157,7 +171,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       minor_modes = c("drop", "keep"),
                       progress = getOption("bayesbem.progress", TRUE), ...) {
   data <- as_koh_data(field, sim)
-  data <- add_discrepancy_terms(data, covariates)
+  several <- inherits(data, "bayesbem_outputs")
+  data <- if (several) add_output_terms(data, covariates) else add_discrepancy_terms(data, covariates)
   if (!is.null(covariates) && !is.null(predict_at)) {
     abort_bayesbem(c("{.arg predict_at} cannot be combined with {.arg covariates}.",
                      i = "Predict after the fit with {.fn predict}, giving the covariates in {.arg newdata}."),
@@ -167,11 +182,17 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   check_dots_in(list(...), sampling_arguments(), "rstan::sampling()")
   check_priors(priors)
   asked <- match_choice(structure)
-  structure <- choose_structure(data, asked, predict_at)
-  inform_dense(data, structure, asked)
-  modular <- choose_modular(modular, data, structure)
+  if (several) {
+    check_outputs_path(asked, modular, predict_at)
+    structure <- "grid"
+    modular <- TRUE
+  } else {
+    structure <- choose_structure(data, asked, predict_at)
+    inform_dense(data, structure, asked)
+    modular <- choose_modular(modular, data, structure)
+  }
   emulator_type <- choose_emulator(match_choice(emulator), modular, data)
-  defaults <- default_sampling(modular, data$n, emulator_type)
+  defaults <- default_sampling(modular, largest_output(data), emulator_type)
   check_count(chains)
   check_count(cores)
   lengths <- sampling_lengths(iter, warmup, defaults)
@@ -183,19 +204,17 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   lapack <- use_lapack()
   control <- merge_control(control, defaults$control)
   minor_modes <- match_choice(minor_modes)
-  inform_blas(data$n, lapack, modular || structure == "grid")
+  inform_blas(largest_output(data), lapack, modular || structure == "grid")
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                   cores = min(cores, chains), control = control, args = list(...),
                   progress = progress, minor_modes = minor_modes, on_failure = function(messages) {
-                    abort_sampling_failure(data, priors$nugget, structure, messages, call = fit_env)
+                    abort_sampling_failure(output_data(data)[[1]], priors$nugget, structure,
+                                           messages, call = fit_env)
                   })
-  # `emulator` names the choice; stage 1 is the fitted emulator
-  stage1 <- if (modular) fit_emulator(data, priors, seed, sampler$on_failure)
-  if (emulator_type == "basis") {
-    stage1$basis <- basis_emulator(data)
-    sampler$args$init <- basis_inits(sampler$args$init)
-  }
+  # `emulator` names the choice; stage 1 is the fitted emulator (of each output)
+  stage1 <- if (modular) fit_stage1(data, priors, seed, sampler$on_failure, emulator_type)
+  if (modular) sampler$args$init <- stage2_inits(sampler$args$init, emulator_type)
   program <- stan_program(data, priors, stage1, emulator_type, modular, structure, predict_at)
   model <- program$model
   stan_data <- program$data
@@ -203,18 +222,22 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                    if (chains > 1L) "s" else "")
   stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label, keep_moved = modular),
                                       sampler))
-  fit <- new_bayesbem_fit(stanfit, data = data, priors = priors,
-                     settings = list(chains = chains, iter = iter, warmup = warmup, seed = seed,
-                                     control = control, structure = structure, modular = modular,
-                                     emulator = emulator_type,
-                                     minor_modes = minor_modes, lapack = lapack,
-                                     dropped = attr(stanfit, "dropped"),
-                                     restarted = restarted_chains(stanfit),
-                                     kept_moved = attr(stanfit, "kept_moved")),
-                     predict_at = if (!is.null(predict_at)) predict_at[data$names$x],
-                     emulator = stage1)
+  settings <- list(chains = chains, iter = iter, warmup = warmup, seed = seed, control = control,
+                   structure = structure, modular = modular, emulator = emulator_type,
+                   minor_modes = minor_modes, lapack = lapack, dropped = attr(stanfit, "dropped"),
+                   restarted = restarted_chains(stanfit), kept_moved = attr(stanfit, "kept_moved"))
+  fit <- if (modular) {
+    fits <- output_fits(stanfit, data, stage1, function(sf, d, em) {
+      new_bayesbem_fit(sf, data = d, priors = priors, settings = settings, emulator = em)
+    })
+    if (several) new_outputs_fit(stanfit, data, fits, priors, settings) else fits[[1]]
+  } else {
+    new_bayesbem_fit(stanfit, data = data, priors = priors, settings = settings,
+                     predict_at = if (!is.null(predict_at)) predict_at[data$names$x])
+  }
   inform_minor_modes(fit$settings$dropped, fit$settings$restarted,
-                     moved_parameters(fit, attr(stanfit, "minor_tf")), fit$settings$kept_moved)
+                     moved_parameters(output_fit_list(fit)[[1]], attr(stanfit, "minor_tf")),
+                     fit$settings$kept_moved)
   check_convergence(fit)
   fit
 }
@@ -248,6 +271,18 @@ sampling_lengths <- function(iter, warmup, defaults, call = rlang::caller_env())
                    "argument", call = call)
   }
   list(iter = iter, warmup = warmup)
+}
+
+# Stage 1 of a modular fit: the emulator fitted to the runs of each output
+# (a list by output when there are several), with its basis emulator when
+# stage 2 calibrates with that.
+fit_stage1 <- function(data, priors, seed, on_failure, emulator) {
+  one <- function(d) {
+    stage1 <- fit_emulator(d, priors, seed, on_failure)
+    if (emulator == "basis") stage1$basis <- basis_emulator(d)
+    stage1
+  }
+  if (inherits(data, "bayesbem_outputs")) lapply(data$outputs, one) else one(data)
 }
 
 # The iterations and sampler control of a fit whose caller gives none: for
@@ -326,7 +361,7 @@ choose_emulator <- function(emulator, modular, data, call = rlang::caller_env())
     return("none")
   }
   if (emulator == "auto") {
-    return(if (data$n > 36L) "basis" else "separable")
+    return(if (largest_output(data) > 36L) "basis" else "separable")
   }
   emulator
 }

@@ -45,7 +45,9 @@
 #' @param measures A named list of functions `function(model, value)`.
 #' @param output Name of a meter (`"Electricity:Facility"`,
 #'   `"NaturalGas:Facility"`) or output variable (`"Zone Mean Air
-#'   Temperature"`).
+#'   Temperature"`), or several: one run then gives every one of them, each
+#'   an output of its own (named as given) for a calibration on several
+#'   outputs (see [koh_data()]).
 #' @param key For an output variable reported for several objects, which one
 #'   (e.g. a zone name).
 #' @param by Field periods: `"month"`, `"week"` or `"day"`.
@@ -81,7 +83,8 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
                      i = "Add rows for {.field {unset}} to {.arg map}, or a measure."),
                    "parameters")
   }
-  model <- with_sqlite(with_daily_output(model, output))
+  check_eplus_outputs(output)
+  model <- with_sqlite(Reduce(with_daily_output, output, model))
   for (end in c("min", "max")) {
     at <- stats::setNames(as.list(parameters[[end]]), parameters$parameter)
     check_model_fields(apply_parameters(model, map, measures, at), eplus)
@@ -94,11 +97,26 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
     dir <- tempfile("eplus-run-")
     on.exit(unlink(dir, recursive = TRUE), add = TRUE)
     run <- run_model(apply_parameters(model, map, measures, params), weather, eplus, dir, timeout)
-    aggregate_daily(eplus_output(run, output, key), days)
+    values <- lapply(output, function(o) aggregate_daily(eplus_output(run, o, key), days))
+    if (length(output) == 1L) values[[1]] else
+      as.data.frame(stats::setNames(values, output), check.names = FALSE)
   }
-  name <- sprintf("EnergyPlus %s: %s, %s by %s", model$version, basename(model$source), output, by)
+  name <- sprintf("EnergyPlus %s: %s, %s by %s", model$version, basename(model$source),
+                  paste(output, collapse = " and "), by)
   simulator(fun, x, parameters, name = name,
             key = list(unname(tools::md5sum(weather)), model_files_md5(model)))
+}
+
+# `output` names one or more meters or output variables, each once.
+check_eplus_outputs <- function(output, call = rlang::caller_env()) {
+  if (!is.character(output) || length(output) == 0L || anyNA(output) || any(!nzchar(output))) {
+    abort_bayesbem("{.arg output} must name meters or output variables, not {describe_value(output)}.",
+                   "argument", call = call)
+  }
+  if (anyDuplicated(tolower(output))) {
+    abort_bayesbem("{.arg output} names {.val {output[duplicated(tolower(output))]}} more than once.",
+                   "argument", call = call)
+  }
 }
 
 empty_map <- function() {

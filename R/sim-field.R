@@ -16,12 +16,19 @@
 #'   ...), returned as extra columns and available to `effect`.
 #' @param effect Optional hidden effect: a function of a data frame with the
 #'   observable inputs and the covariates, returning one number per period
-#'   (output units), added to the simulator output.
-#' @param noise_sd Standard deviation of the Gaussian measurement noise.
+#'   (output units), added to the simulator output. For a simulator of
+#'   several outputs, a named list of such functions, one per output it
+#'   affects.
+#' @param noise_sd Standard deviation of the Gaussian measurement noise; for
+#'   a simulator of several outputs, one number for all or a named vector
+#'   with one per output (in each output's units).
 #' @param seed Random seed of the noise.
 #' @return A data frame `[y, x, covariates]` in the layout [calibrate()]
 #'   takes, with attributes `truth` (all parameter values), `simulated` (the
 #'   noise-free simulator output) and `effect` (the hidden effect per period).
+#'   For a simulator of several outputs, the long table `[output, y, x,
+#'   covariates]` with each output's periods in turn, its attributes
+#'   `simulated` and `effect` stacked in the same order.
 #' @family simulation
 #' @export
 #' @examples
@@ -36,7 +43,6 @@ simulate_field <- function(simulator, truth, covariates = NULL, effect = NULL, n
                      i = "Make one with {.fn simulator} or {.fn bem_simulator}."),
                    "argument")
   }
-  check_number(noise_sd, "argument")
   params <- design_settings(simulator, as.data.frame(as.list(truth)))[[1]]
   x <- simulator$x
   inputs <- x
@@ -50,15 +56,68 @@ simulate_field <- function(simulator, truth, covariates = NULL, effect = NULL, n
     inputs <- cbind(x, covariates)
   }
   simulated <- simulator$fun(params, x)
-  hidden <- if (is.null(effect)) rep(0, nrow(x)) else effect(inputs)
-  if (!is.numeric(hidden) || length(hidden) != nrow(x) || any(!is.finite(hidden))) {
-    abort_bayesbem(c("{.arg effect} must return one finite number per period ({nrow(x)}).",
-                     x = "It returned {.obj_type_friendly {hidden}} of length {length(hidden)}."),
-                   "argument")
+  if (is.data.frame(simulated)) {
+    return(field_outputs(simulated, inputs, params, effect, noise_sd, seed))
   }
+  check_number(noise_sd, "argument")
+  hidden <- hidden_effect(effect, inputs)
   noise <- with_seed(seed, stats::rnorm(nrow(x), sd = noise_sd))
   structure(data.frame(y = simulated + hidden + noise, inputs, row.names = NULL),
             truth = params, simulated = simulated, effect = hidden)
+}
+
+# `effect(inputs)` (zero without one), checked: one finite number per period.
+hidden_effect <- function(effect, inputs, arg = "effect", call = rlang::caller_env()) {
+  if (is.null(effect)) {
+    return(rep(0, nrow(inputs)))
+  }
+  hidden <- effect(inputs)
+  if (!is.numeric(hidden) || length(hidden) != nrow(inputs) || any(!is.finite(hidden))) {
+    abort_bayesbem(c("{.arg {arg}} must return one finite number per period ({nrow(inputs)}).",
+                     x = "It returned {.obj_type_friendly {hidden}} of length {length(hidden)}."),
+                   "argument", call = call)
+  }
+  hidden
+}
+
+# simulate_field() of a simulator of several outputs: the long table, each
+# output with its own effect and noise (drawn output after output).
+field_outputs <- function(simulated, inputs, params, effect, noise_sd, seed,
+                          call = rlang::caller_env()) {
+  outputs <- names(simulated)
+  check_output_names(effect, outputs, "effect", is.function, sprintf("list(%s = function(d) ...)", outputs[1]), call)
+  check_output_names(noise_sd, outputs, "noise_sd", function(v) is.numeric(v) && v >= 0,
+                     sprintf("c(%s = 10)", outputs[1]), call)
+  if (length(noise_sd) == 1L && is.null(names(noise_sd))) {
+    noise_sd <- stats::setNames(rep(noise_sd, length(outputs)), outputs)
+  }
+  noise <- with_seed(seed, lapply(outputs, function(k) stats::rnorm(nrow(inputs), sd = noise_sd[[k]] %||% 0)))
+  rows <- lapply(seq_along(outputs), function(j) {
+    k <- outputs[j]
+    hidden <- hidden_effect(effect[[k]], inputs, sprintf("effect$%s", k), call)
+    data.frame(output = k, y = simulated[[k]] + hidden + noise[[j]], inputs,
+               simulated = simulated[[k]], effect = hidden, row.names = NULL)
+  })
+  out <- do.call(rbind, rows)
+  structure(out[setdiff(names(out), c("simulated", "effect"))], truth = params,
+            simulated = out$simulated, effect = out$effect)
+}
+
+# A per-output argument names only outputs the simulator has, each value
+# valid; one unnamed value is allowed where `valid` takes it alone.
+check_output_names <- function(value, outputs, arg, valid, example, call) {
+  if (is.null(value)) {
+    return(invisible())
+  }
+  if (is.null(names(value)) && length(value) == 1L && !is.function(value) && valid(value)) {
+    return(invisible())
+  }
+  unknown <- setdiff(names(value), outputs)
+  if (is.null(names(value)) || length(unknown) > 0L || !all(vapply(value, valid, logical(1)))) {
+    abort_bayesbem(c("With several outputs, {.arg {arg}} must be named by output.",
+                     i = "The simulator's outputs are {.val {outputs}}; e.g. {.code {arg} = {example}}."),
+                   "argument", call = call)
+  }
 }
 
 # A synthetic calibration problem of the reliability benchmark

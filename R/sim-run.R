@@ -25,7 +25,9 @@
 #' @param cache_dir Optional directory for cached run results.
 #' @return A data frame with columns `eta`, the observable inputs and the
 #'   design's parameters, with `nrow(design) * nrow(x)` rows (runs of failed
-#'   runs left out), and an attribute `failed`: a data frame with the
+#'   runs left out); for a simulator of several outputs, a first column
+#'   `output` naming each row's output, and a row per output and period of
+#'   each run; and an attribute `failed`: a data frame with the
 #'   `run` (row of `design`) and `error` of each failed run.
 #' @family simulation
 #' @export
@@ -63,14 +65,40 @@ simulate_design <- function(simulator, design, cache_dir = NULL) {
                   "simulation")
   }
   x <- simulator$x
+  check_same_outputs_runs(runs[ok])
   rows <- lapply(which(ok), function(i) {
-    data.frame(eta = runs[[i]]$value, x, design[rep(i, nrow(x)), , drop = FALSE],
-               row.names = NULL, check.names = FALSE)
+    run_rows(runs[[i]]$value, x, design[rep(i, nrow(x)), , drop = FALSE])
   })
   out <- if (length(rows) > 0L) do.call(rbind, rows) else
     data.frame(eta = numeric(), x[0, , drop = FALSE], design[0, , drop = FALSE])
   attr(out, "failed") <- failed
   out
+}
+
+# The rows of one run: `eta` at each period, or, for a run of several
+# outputs, each output's rows in turn with the `output` column naming it.
+run_rows <- function(value, x, settings) {
+  if (!is.data.frame(value)) {
+    return(data.frame(eta = value, x, settings, row.names = NULL, check.names = FALSE))
+  }
+  do.call(rbind, lapply(names(value), function(k) {
+    data.frame(output = k, eta = value[[k]], x, settings, row.names = NULL, check.names = FALSE)
+  }))
+}
+
+# The runs of one design give the same outputs.
+check_same_outputs_runs <- function(runs, call = rlang::caller_env()) {
+  if (length(runs) == 0L) {
+    return(invisible())
+  }
+  outputs <- lapply(runs, function(r) names(r$value))
+  differ <- which(!vapply(outputs, identical, logical(1), outputs[[1]] %||% NULL))
+  if (length(differ) > 0L) {
+    abort_bayesbem(c("The simulator returned other outputs in some runs.",
+                     x = "The first run gave {.val {outputs[[1]] %||% 'one output'}}, run {differ[1]} {.val {outputs[[differ[1]]] %||% 'one output'}}.",
+                     i = "A simulator returns the same outputs (a vector, or the same named columns) in every run."),
+                   "simulation", call = call)
+  }
 }
 
 # One run, from the cache when it holds it (under a hash of the simulator's
@@ -92,7 +120,18 @@ run_cached <- function(simulator, key, params, cache_dir) {
   list(value = value, error = NULL)
 }
 
+# NULL when a run's value is one number per period, or a data frame of
+# them with a named column per output; else what is wrong.
 check_run_output <- function(value, n) {
+  if (is.data.frame(value)) {
+    names <- names(value)
+    if (length(names) == 0L || anyNA(names) || any(!nzchar(names)) || anyDuplicated(names)) {
+      return("the simulator returned a data frame without a unique name for each output column")
+    }
+    problems <- unlist(lapply(value, check_run_output, n = n))
+    return(if (nrow(value) != n) sprintf("the simulator returned %d rows, not %d", nrow(value), n) else
+      problems[1])
+  }
   if (!is.numeric(value) || length(value) != n) {
     return(sprintf("the simulator returned %s of length %d, not %d numbers",
                    class(value)[1], length(value), n))

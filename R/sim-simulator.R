@@ -7,7 +7,10 @@
 #'
 #' @param fun A function `fun(params, x)` taking a named list of all
 #'   parameters (one value each, physical units) and the data frame `x`, and
-#'   returning a numeric vector with one output per row of `x`.
+#'   returning a numeric vector with one output per row of `x`, or, for a
+#'   simulator of several outputs (meters), a data frame with one named
+#'   column per output and one row per row of `x` ([simulate_design()] then
+#'   writes the long table with an `output` column that [koh_data()] takes).
 #' @param x A data frame of the observable inputs of each field period.
 #' @param parameters A parameter table (see [bem_parameters()]): every
 #'   parameter `fun` takes, with its initial value and range. Parameters a
@@ -81,7 +84,9 @@ print.bayesbem_simulator <- function(x, ...) {
 #'   file. Several years can be stacked with `rbind()`.
 #' @param parameters A parameter table (default [bem_parameters()]).
 #' @param building Building properties from [bem_building()].
-#' @param output `"electricity"` or `"gas"` (kWh per period).
+#' @param output `"electricity"`, `"gas"` (kWh per period) or both,
+#'   `c("electricity", "gas")`: a simulator of both meters, from one run of
+#'   the model.
 #' @return A `bayesbem_simulator`.
 #' @family simulation
 #' @export
@@ -90,12 +95,28 @@ print.bayesbem_simulator <- function(x, ...) {
 #' sim
 #' simulate_design(sim, data.frame(equipment_power_density = c(10, 20)))
 bem_simulator <- function(weather, parameters = bem_parameters(), building = bem_building(),
-                          output = c("electricity", "gas")) {
-  output <- match_choice(output)
+                          output = "electricity") {
+  meters <- c("electricity", "gas")
+  if (!is.character(output) || length(output) == 0L || anyNA(output) || anyDuplicated(output)) {
+    abort_bayesbem("{.arg output} must be {.val electricity}, {.val gas} or both, not {describe_value(output)}.",
+                   "argument")
+  }
+  unknown <- setdiff(output, meters)
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("{.arg output} names {.val {unknown}}, not a meter of the embedded model.",
+                     i = "Its meters: {.val {meters}}."),
+                   "argument")
+  }
   if (is.character(weather)) weather <- epw_monthly(weather)
   x <- data.frame(temp = weather$temp, rh = weather$rh, solar = weather$dni)
-  fun <- function(params, x) bem_monthly(params, weather, building)[[output]]
-  simulator(fun, x, parameters, name = paste("embedded monthly building model,", output, "(kWh)"),
+  fun <- if (length(output) == 1L) {
+    function(params, x) bem_monthly(params, weather, building)[[output]]
+  } else {
+    function(params, x) bem_monthly(params, weather, building)[output]
+  }
+  simulator(fun, x, parameters,
+            name = paste0("embedded monthly building model, ", paste(output, collapse = " and "),
+                          " (kWh)"),
             key = list(weather, building, output))
 }
 

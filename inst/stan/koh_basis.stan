@@ -12,9 +12,16 @@
 // straight, so that a dense metric fits it (inst/notes/design.md, "Stage-2
 // geometry"). The separable emulator of stage 1 is passed through to the
 // generated quantities: the package predicts with it.
+//
+// Several outputs (meters) share tf; each has its own basis, components,
+// discrepancy and noise, its rows and components a block of the stacked
+// data, and the likelihood is the sum of the outputs' (as in
+// koh_modular.stan). With one output this is the one-output model.
 functions {
   // the GP kernels, the mean and discrepancy terms, the tf prior, the C++ densities
 #include /include/koh_functions.stan
+  // where each output's block of the stacked rows starts, its size, its discrepancy terms
+#include /include/koh_outputs.stan
   /* The calibration parameters on [0, 1] from unconstrained u, linear
    * inside and with exponential tails within about a of the bounds:
    *   g(u) = a (log(1 + e^(u / a)) - log(1 + e^((u - 1) / a))),
@@ -34,7 +41,7 @@ functions {
   }
 }
 data {
-  // n, mt, p, q; y, xf and tc
+  // n, mt, p, q, K; y, xf, tc and each row's output
 #include /include/koh_stage2_data.stan
   // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
@@ -42,15 +49,14 @@ data {
   // the scale of tf_u (R/fit-basis.R, linear_box)
   real<lower=0, upper=0.5> tf_edge;      // a, the width of g's tails
   real<lower=0> tf_multiplier;           // Stan samples tf_u / tf_multiplier
-  // the separable stage-1 emulator, for predictions
-  vector[p + q] beta_eta_fixed;
-  real<lower=0> lambda_eta_fixed;
-  vector[n_b] b_fixed;
-  // the basis emulator
-  int<lower=1> pc;                       // components
+  // the separable stage-1 emulator of each output, for predictions
+#include /include/koh_stage2_emulators.stan
+  // the basis emulators: output k's components are a block of columns
+  int<lower=1> pc;                       // components, all outputs
+  vector<lower=1, upper=K>[pc] pc_output; // the output of each component
   vector[n] mu_f;                        // the runs' mean at the field rows
-  matrix[n, pc] B;                       // basis
-  real<lower=0> s2r;                     // variance of the truncated components
+  matrix[n, pc] B;                       // bases: output k's rows and components
+  vector<lower=0>[K] s2r;                // variance of each output's truncated components
   matrix[q + 1, pc] w_coef;              // components' linear means
   matrix[q, pc] w_beta;                  // components' kernel weights
   vector<lower=0>[pc] w_s2;              // components' variances
@@ -61,22 +67,32 @@ data {
 parameters {
   // calibration parameters, tf = g(tf_u), sampled as tf_u / tf_multiplier
   vector<multiplier=tf_multiplier>[q] tf_u;
-  // rho_delta, lambda_delta, lambda_e, gamma
+  // rho_delta, lambda_delta, lambda_e (each output's), gamma
 #include /include/koh_stage2_parameters.stan
 }
 transformed parameters {
   vector[q] tf = linear_box_lp(tf_u, tf_edge);
-  vector[p] beta_delta = -4 * log(rho_delta);
+  vector[p * K] beta_delta = -4 * log(rho_delta);
 }
 model {
   vector[2 * pc] wv = basis_components(tf, tc, w_coef, w_beta, w_s2, w_nug, w_alpha, w_Ki);
   // priors of the calibration parameters, the discrepancy and the noise
 #include /include/koh_stage2_priors.stan
-  target += normal_basis_lpdf(y - mu_f - B * head(wv, pc) - discrepancy_terms(h, gamma)
-                              | B, tail(wv, pc), xf, beta_delta, lambda_delta,
-                              s2r + 1 / lambda_e, lapack);
+  for (k in 1:K) {
+    int s = output_start(output, k);
+    int len = output_size(output, k);
+    int c = output_start(pc_output, k);
+    int pc_k = output_size(pc_output, k);
+    target += normal_basis_lpdf(segment(y, s, len) - segment(mu_f, s, len)
+                                - block(B, s, c, len, pc_k) * segment(wv, c, pc_k)
+                                - output_terms(h, gamma, s, len)
+                                | block(B, s, c, len, pc_k), segment(wv, pc + c, pc_k),
+                                block(xf, s, 1, len, p), segment(beta_delta, (k - 1) * p + 1, p),
+                                lambda_delta[k], s2r[k] + 1 / lambda_e[k], lapack);
+  }
 }
 generated quantities {
-  // the separable emulator, under the names of the joint programs
+  // the separable emulators, under the names of the joint programs (output
+  // k's beta_eta and b are its block of p + q and of n_b elements)
 #include /include/koh_fixed_emulator.stan
 }

@@ -21,3 +21,26 @@ shared_fit <- local({
     fit
   }
 })
+
+# A fit on two outputs of the embedded model, electricity and gas, 12
+# months of 2013 (gas without its August bill), two parameters; made once
+# per test session.
+two_output_fit <- local({
+  fit <- NULL
+  function() {
+    if (is.null(fit)) {
+      epw <- system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")
+      sim <- bem_simulator(epw, output = c("electricity", "gas"))
+      pars <- bem_parameters()
+      pars <- pars[pars$parameter %in% c("equipment_power_density", "infiltration_per_exterior_area"), ]
+      runs <- simulate_design(sim, design_lhs(pars, 12, seed = 1))
+      field <- simulate_field(sim, list(equipment_power_density = 15,
+                                        infiltration_per_exterior_area = 8e-4),
+                              noise_sd = c(electricity = 20, gas = 20), seed = 2)
+      field <- field[!(field$output == "gas" & seq_len(nrow(field)) == 20), ]
+      fit <<- suppressWarnings(calibrate(field, runs, chains = 2, iter = 600, seed = 3,
+                                         progress = FALSE))
+    }
+    fit
+  }
+})

@@ -7,6 +7,36 @@ reference_log_density <- function(sd, pars) {
   sd$xf <- rbind(sd$xf, sd$x_pred)
   sd$y <- c(sd$y, pars$y_pred)
   sd$n <- sd$n + sd$n_pred
+  joint <- reference_joint(sd, pars)
+  reference_normal(joint$z, joint$sigma) + reference_tf_prior(sd, pars$tf) +
+    sum(stats::dbeta(pars$rho_eta, sd$rho_eta_a, sd$rho_eta_b, log = TRUE)) +
+    sum(stats::dbeta(pars$rho_delta, sd$rho_delta_a, sd$rho_delta_b, log = TRUE)) +
+    stats::dgamma(pars$lambda_eta, sd$lambda_eta_shape, sd$lambda_eta_rate, log = TRUE) +
+    stats::dgamma(pars$lambda_delta, sd$lambda_delta_shape, sd$lambda_delta_rate, log = TRUE) +
+    stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE) +
+    sum(stats::dnorm(pars$gamma, 0, sd$gamma_sd, log = TRUE)) +
+    sum(stats::dnorm(pars$b, 0, sd$b_sd, log = TRUE))
+}
+
+# log N(z | 0, sigma), via chol().
+reference_normal <- function(z, sigma) {
+  r <- chol(sigma)
+  -0.5 * length(z) * log(2 * pi) - sum(log(diag(r))) - 0.5 * sum(backsolve(r, z, transpose = TRUE)^2)
+}
+
+# The field outputs' log density given the runs, log p(y | eta) = log p(y,
+# eta) - log p(eta), at the emulator's hyperparameters in `pars` (no priors):
+# what stage 2 of a modular fit conditions on.
+reference_field_given_runs <- function(sd, pars) {
+  joint <- reference_joint(sd, pars)
+  runs <- sd$n + seq_len(sd$m)
+  reference_normal(joint$z, joint$sigma) -
+    reference_normal(joint$z[runs], joint$sigma[runs, runs, drop = FALSE])
+}
+
+# The covariance `sigma` of z = (y, eta) and z less its mean, element by
+# element (method.md section 1).
+reference_joint <- function(sd, pars) {
   n <- sd$n
   m <- sd$m
   N <- n + m
@@ -33,17 +63,7 @@ reference_log_density <- function(sd, pars) {
   emulator_mean <- vapply(seq_len(N), function(i) sum(c(1, u[i, ]) * coef), numeric(1))
   # the discrepancy terms h' gamma shift the observed field rows
   shift <- emulator_mean + c(drop(sd$h %*% pars$gamma), rep(0, N - nrow(sd$h)))
-  z <- c(sd$y, sd$eta) - shift
-  r <- chol(sigma)
-  ll <- -0.5 * N * log(2 * pi) - sum(log(diag(r))) - 0.5 * sum(backsolve(r, z, transpose = TRUE)^2)
-  ll + reference_tf_prior(sd, pars$tf) +
-    sum(stats::dbeta(pars$rho_eta, sd$rho_eta_a, sd$rho_eta_b, log = TRUE)) +
-    sum(stats::dbeta(pars$rho_delta, sd$rho_delta_a, sd$rho_delta_b, log = TRUE)) +
-    stats::dgamma(pars$lambda_eta, sd$lambda_eta_shape, sd$lambda_eta_rate, log = TRUE) +
-    stats::dgamma(pars$lambda_delta, sd$lambda_delta_shape, sd$lambda_delta_rate, log = TRUE) +
-    stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE) +
-    sum(stats::dnorm(pars$gamma, 0, sd$gamma_sd, log = TRUE)) +
-    sum(stats::dnorm(pars$b, 0, sd$b_sd, log = TRUE))
+  list(sigma = sigma, z = c(sd$y, sd$eta) - shift)
 }
 
 # Log prior density of tf. The prior is stated on w, the physical value
@@ -173,4 +193,74 @@ random_grid_data <- function(n = 7, runs = 5, extra = 2) {
     data.frame(eta = rnorm(n + extra, 5), x, t(design[r, ]))
   }))
   koh_data(data.frame(y = rnorm(n, 5), x[seq_len(n), ]), sim[sample(nrow(sim)), ])
+}
+
+# Data of two outputs, "elec" and "gas", sharing a design of `runs` runs
+# over k1-k3, with random outputs: "gas" lacks the third of elec's field
+# inputs (a month without a bill) and is on another scale; every run is at
+# every input (and `extra` inputs beyond the field's).
+random_outputs_data <- function(n = 7, runs = 6, extra = 1) {
+  x <- matrix(runif((n + extra) * 2), n + extra, 2, dimnames = list(NULL, c("a", "b")))
+  design <- cbind(k1 = runif(runs, 0, 3), k2 = runif(runs, 10, 20), k3 = runif(runs))
+  sim <- do.call(rbind, lapply(seq_len(runs), function(r) {
+    rbind(data.frame(output = "elec", eta = rnorm(n + extra, 5), x, t(design[r, ])),
+          data.frame(output = "gas", eta = rnorm(n + extra, 300, 20), x, t(design[r, ])))
+  }))
+  gas_rows <- seq_len(n)[-3]
+  field <- rbind(data.frame(output = "elec", y = rnorm(n, 5), x[seq_len(n), ]),
+                 data.frame(output = "gas", y = rnorm(n - 1, 300, 20), x[gas_rows, ]))
+  list(field = field, sim = sim[sample(nrow(sim)), ])
+}
+
+# An independent transcription of the basis emulator given the runs at tf
+# (Higdon et al. 2008): each component's Gaussian process built element by
+# element from its hyperparameters and the runs' weights, its mean
+# coefficients by generalised least squares, solved with solve(); then the
+# field outputs' mean and covariance, and stage 2's log density with R's own
+# density functions.
+reference_basis <- function(sd, basis, pars) {
+  tc <- basis$tc
+  mt <- nrow(tc)
+  h <- cbind(1, tc)
+  comp <- vapply(seq_along(basis$components), function(j) {
+    gp <- basis$components[[j]]
+    kern <- function(a, b) gp$s2 * exp(-sum(gp$beta * (a - b)^2))
+    k_runs <- matrix(0, mt, mt)
+    for (a in seq_len(mt)) for (c in seq_len(mt)) k_runs[a, c] <- kern(tc[a, ], tc[c, ])
+    k_runs <- k_runs + diag(gp$s2 * gp$nug, mt)
+    w <- basis$w[, j]
+    b <- solve(t(h) %*% solve(k_runs, h), t(h) %*% solve(k_runs, w))
+    k <- vapply(seq_len(mt), function(a) kern(pars$tf, tc[a, ]), numeric(1))
+    c(sum(c(1, pars$tf) * b) + sum(k * solve(k_runs, w - h %*% b)),
+      max(gp$s2 * (1 + gp$nug) - sum(k * solve(k_runs, k)), 0))
+  }, numeric(2))
+  n <- sd$n
+  beta_delta <- -4 * log(pars$rho_delta)
+  cov <- matrix(0, n, n)
+  for (i in seq_len(n)) {
+    for (j in seq_len(n)) {
+      cov[i, j] <- sum(basis$B[i, ] * comp[2, ] * basis$B[j, ]) +
+        exp(-sum(beta_delta * (sd$xf[i, ] - sd$xf[j, ])^2)) / pars$lambda_delta +
+        (i == j) * (basis$s2r + 1 / pars$lambda_e)
+    }
+  }
+  mean <- basis$mu + drop(basis$B %*% comp[1, ])
+  r <- chol(cov)
+  z <- sd$y - mean
+  ll <- -0.5 * n * log(2 * pi) - sum(log(diag(r))) - 0.5 * sum(backsolve(r, z, transpose = TRUE)^2)
+  lp <- ll + reference_tf_prior(sd, pars$tf) +
+    sum(stats::dbeta(pars$rho_delta, sd$rho_delta_a, sd$rho_delta_b, log = TRUE)) +
+    stats::dgamma(pars$lambda_delta, sd$lambda_delta_shape, sd$lambda_delta_rate, log = TRUE) +
+    stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE)
+  eta_var <- vapply(seq_len(n), function(i) sum(basis$B[i, ]^2 * comp[2, ]), numeric(1)) + basis$s2r
+  list(mean = mean, cov = cov, eta_var = eta_var, lp = lp)
+}
+
+# One output's stage-2 parameters as the stage-2 programs take them: the
+# precisions lambda_delta and lambda_e are vectors, one element per output.
+stage2_pars <- function(pars) {
+  pars <- pars[intersect(c("tf", "tf_u", "rho_delta", "lambda_delta", "lambda_e", "gamma"), names(pars))]
+  pars$lambda_delta <- as.array(pars$lambda_delta)
+  pars$lambda_e <- as.array(pars$lambda_e)
+  pars
 }

@@ -27,8 +27,7 @@ test_that("stage 1 + stage 2 log densities equal the joint grid density", {
       stage2_sd <- bayesbem:::modular_stan_data(d, pr$priors, emulator)
       model_stage2 <- koh_model_for(stage2_sd, "koh_modular")
       lp1 <- stan_log_density(model_stage1, pars[c("rho_eta", "lambda_eta", "b")])
-      lp2 <- stan_log_density(model_stage2, pars[c("tf", "rho_delta", "lambda_delta",
-                                                   "lambda_e", "gamma")])
+      lp2 <- stan_log_density(model_stage2, stage2_pars(pars))
       joint <- stan_log_density(model_grid, pars[names(pars) != "y_pred"])
       expect_equal(lp1 + lp2, joint, tolerance = 1e-8)
       expect_equal(lp1 + lp2, reference_log_density(dense_sd, pars), tolerance = 1e-8)

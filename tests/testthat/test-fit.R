@@ -103,7 +103,7 @@ field_density_models <- function(d) {
   list(
     koh_grid = list(sd = grid, pars = pars[names(pars) != "y_pred"]),
     koh_modular = list(sd = bayesbem:::modular_stan_data(d, priors, emulator),
-                       pars = pars[c("tf", "rho_delta", "lambda_delta", "lambda_e", "gamma")])
+                       pars = stage2_pars(pars))
   )
 }
 

@@ -123,3 +123,28 @@ test_that("simulate_design() leaves the session's random number generator as it 
   expect_equal(RNGkind(), kind)
   expect_false(exists(".Random.seed", envir = globalenv()))
 })
+
+test_that("a simulator of several outputs gives the long table, one run per setting", {
+  calls <- 0
+  two <- simulator(function(params, x) {
+    calls <<- calls + 1
+    data.frame(elec = params$a * x$temp, gas = params$a + x$temp)
+  }, x = data.frame(temp = c(1, 2, 3)),
+  parameters = data.frame(parameter = "a", initial = 1, min = 0, max = 2))
+  out <- simulate_design(two, data.frame(a = c(0.5, 1.5)))
+  expect_equal(calls, 2)
+  expect_named(out, c("output", "eta", "temp", "a"))
+  expect_equal(out$output, rep(rep(c("elec", "gas"), each = 3), 2))
+  expect_equal(out$eta, c(0.5 * 1:3, 0.5 + 1:3, 1.5 * 1:3, 1.5 + 1:3))
+  # a run whose outputs miss a row or a name fails alone
+  short <- simulator(function(params, x) data.frame(elec = 1:2, gas = 1:2), x = data.frame(temp = 1:3),
+                     parameters = data.frame(parameter = "a", initial = 1, min = 0, max = 2))
+  expect_warning(out <- simulate_design(short, data.frame(a = 1)), class = "bayesbem_warning_simulation")
+  expect_match(attr(out, "failed")$error, "2 rows, not 3")
+  # runs that disagree on their outputs are an error
+  changing <- simulator(function(params, x) {
+    if (params$a > 1) data.frame(elec = x$temp) else data.frame(gas = x$temp)
+  }, x = data.frame(temp = 1:3), parameters = data.frame(parameter = "a", initial = 1, min = 0, max = 2))
+  expect_error(simulate_design(changing, data.frame(a = c(0.5, 1.5))),
+               class = "bayesbem_error_simulation")
+})

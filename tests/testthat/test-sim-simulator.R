@@ -30,3 +30,15 @@ test_that("bad simulators and parameter tables get classed errors", {
   expect_snapshot(simulate_design(sim, data.frame(c = 1)), error = TRUE)
   expect_snapshot(simulate_design(sim, data.frame(a = 3)), error = TRUE)
 })
+
+test_that("the embedded model gives both meters from one run", {
+  both <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  expect_match(both$name, "electricity and gas")
+  p <- stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
+  w <- epw_monthly(shipped_epw(2013))
+  expect_equal(both$fun(p, both$x), bem_monthly(p, w)[c("electricity", "gas")])
+  expect_snapshot(bem_simulator(shipped_epw(2013), output = c("electricity", "water")),
+                  error = TRUE)
+  expect_error(bem_simulator(shipped_epw(2013), output = character()),
+               class = "bayesbem_error_argument")
+})

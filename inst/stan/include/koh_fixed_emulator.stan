@@ -1,3 +1,3 @@
-  vector[p + q] beta_eta = beta_eta_fixed;
-  real lambda_eta = lambda_eta_fixed;
-  vector[n_b] b = b_fixed;
+  vector[(p + q) * K] beta_eta = to_vector(beta_eta_fixed);
+  vector[K] lambda_eta = lambda_eta_fixed;
+  vector[n_b * K] b = to_vector(b_fixed);

@@ -1,7 +1,10 @@
-  int<lower=1> n;                        // field observations
-  int<lower=1> mt;                       // simulation runs
+  int<lower=1> n;                        // field observations, all outputs
+  int<lower=1> mt;                       // simulation runs, the same for every output
   int<lower=1> p;                        // observable inputs x
   int<lower=1> q;                        // calibration parameters t
-  vector[n] y;                           // field output
-  matrix[n, p] xf;                       // field inputs
+  vector[n] y;                           // field outputs, each standardised on its own
+  matrix[n, p] xf;                       // field inputs, on each output's own scaling
   matrix[mt, q] tc;                      // simulation design, one row per run
+  int<lower=1> K;                        // outputs (meters)
+  // the output of each field row, 1 to K: output 1's rows first, then 2's
+  vector<lower=1, upper=K>[n] output;

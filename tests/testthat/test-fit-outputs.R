@@ -1,0 +1,142 @@
+# Stage 2 on several outputs: the outputs share tf and nothing else, so its
+# log density is the sum over outputs of the field outputs' density given
+# the runs (each at its own fixed emulator), plus the priors: tf's once,
+# each output's discrepancy and noise priors.
+test_that("the K-output stage-2 log density is the sum of the outputs' (separable)", {
+  skip_on_cran()
+  withr::local_seed(41)
+  tables <- random_outputs_data()
+  d <- koh_data(tables$field, tables$sim)
+  # a discrepancy term on gas only: its coefficient shifts gas's rows alone
+  d <- bayesbem:::add_output_terms(d, list(gas = data.frame(occupancy = runif(6))))
+  priors <- koh_priors(emulator_mean = "constant")
+  p <- 2
+  q <- 3
+  emulators <- lapply(d$outputs, function(o) {
+    list(beta_eta = stats::runif(p + q, 0.5, 3), lambda_eta = stats::rgamma(1, 10, 10),
+         b = stats::rnorm(1))
+  })
+  sd <- bayesbem:::modular_stan_data(d, priors, emulators)
+  expect_equal(sd$K, 2L)
+  expect_equal(as.numeric(sd$output), rep(1:2, c(7, 6)))
+  model <- koh_model_for(sd, "koh_modular")
+  for (i in 1:3) {
+    pars <- list(tf = as.array(stats::runif(q)), rho_delta = as.array(stats::runif(2 * p, 0.3, 0.99)),
+                 lambda_delta = as.array(stats::rgamma(2, 10, 0.3)),
+                 lambda_e = as.array(stats::rgamma(2, 10, 0.03)), gamma = as.array(stats::rnorm(1)))
+    expected <- 0
+    for (k in 1:2) {
+      one <- d$outputs[[k]]
+      dense <- bayesbem:::koh_stan_data(one, priors, structure = "dense")
+      em <- emulators[[k]]
+      pars_k <- list(tf = pars$tf, rho_eta = exp(-em$beta_eta / 4), lambda_eta = em$lambda_eta,
+                     b = em$b, rho_delta = pars$rho_delta[(k - 1) * p + seq_len(p)],
+                     lambda_delta = pars$lambda_delta[k], lambda_e = pars$lambda_e[k],
+                     gamma = if (k == 2) pars$gamma else numeric())
+      expected <- expected + reference_field_given_runs(dense, pars_k)
+    }
+    expected <- expected + reference_tf_prior(sd, pars$tf) +
+      sum(stats::dbeta(pars$rho_delta, sd$rho_delta_a, sd$rho_delta_b, log = TRUE)) +
+      sum(stats::dgamma(pars$lambda_delta, sd$lambda_delta_shape, sd$lambda_delta_rate, log = TRUE)) +
+      sum(stats::dgamma(pars$lambda_e, sd$lambda_e_shape, sd$lambda_e_rate, log = TRUE)) +
+      sum(stats::dnorm(pars$gamma, 0, sd$gamma_sd, log = TRUE))
+    expect_equal(stan_log_density(model, pars), expected, tolerance = 1e-8)
+  }
+})
+
+test_that("the K-output stage-2 log density is the sum of the outputs' (basis)", {
+  skip_on_cran()
+  withr::local_seed(42)
+  tables <- random_outputs_data(n = 9, runs = 8)
+  d <- koh_data(tables$field, tables$sim)
+  priors <- koh_priors()
+  n_b <- sum(bayesbem:::mean_selection(priors, 2, 3))
+  emulators <- lapply(d$outputs, function(o) {
+    list(beta_eta = rep(1, 5), lambda_eta = 1, b = numeric(n_b),
+         basis = bayesbem:::basis_emulator(o, variance = 0.99))
+  })
+  sd <- bayesbem:::basis_stan_data(d, priors, emulators)
+  pcs <- vapply(emulators, function(e) length(e$basis$components), integer(1))
+  expect_equal(as.numeric(sd$pc_output), rep(1:2, pcs))
+  model <- koh_model_for(sd, "koh_basis")
+  for (i in 1:3) {
+    pars <- list(tf = as.array(stats::runif(3)), rho_delta = as.array(stats::runif(4, 0.3, 0.99)),
+                 lambda_delta = as.array(stats::rgamma(2, 10, 0.3)),
+                 lambda_e = as.array(stats::rgamma(2, 10, 0.03)), gamma = numeric(0))
+    refs <- lapply(1:2, function(k) {
+      one_sd <- bayesbem:::basis_stan_data(d$outputs[[k]], priors, emulators[[k]])
+      reference_basis(one_sd, emulators[[k]]$basis,
+                      list(tf = pars$tf, rho_delta = pars$rho_delta[(k - 1) * 2 + 1:2],
+                           lambda_delta = pars$lambda_delta[k], lambda_e = pars$lambda_e[k]))$lp
+    })
+    # each reference holds tf's prior; tf is sampled as tf_u, with its Jacobian
+    u <- bayesbem:::linear_box_inverse(pars$tf)
+    a <- sd$tf_edge
+    jacobian <- sum(log(stats::plogis(u / a) - stats::plogis((u - 1) / a)))
+    expected <- refs[[1]] + refs[[2]] - reference_tf_prior(sd, pars$tf) + jacobian
+    stan_pars <- c(list(tf_u = as.array(u)), pars[names(pars) != "tf"])
+    expect_equal(stan_log_density(model, stan_pars), expected, tolerance = 1e-8)
+  }
+})
+
+test_that("one output in a long table gives the one-output fit, draw for draw", {
+  skip_on_cran()
+  long_field <- cbind(output = "electricity", seb_field)
+  long_sim <- cbind(output = "electricity", seb_sim)
+  one <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 5,
+                                    progress = FALSE))
+  long <- suppressWarnings(calibrate(long_field, long_sim, chains = 1, iter = 300, seed = 5,
+                                     progress = FALSE))
+  expect_s3_class(long, "bayesbem_outputs_fit")
+  expect_identical(posterior::as_draws_array(output_fit(long, "electricity")),
+                   posterior::as_draws_array(one))
+  expect_identical(posterior::as_draws_array(output_fit(long, 1)), posterior::as_draws_array(one))
+})
+
+test_that("a fit on two outputs: shared draws, each output a fit of its own", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  full <- fit$stanfit
+  for (k in 1:2) {
+    one <- output_fit(fit, k)
+    expect_s3_class(one, "bayesbem_fit")
+    expect_identical(as.matrix(one$stanfit, pars = "tf"), as.matrix(full, pars = "tf"))
+    expect_identical(unname(as.matrix(one$stanfit, pars = "lambda_e")[, 1]),
+                     unname(as.matrix(full, pars = "lambda_e")[, k]))
+    p <- one$data$p
+    expect_identical(unname(as.matrix(one$stanfit, pars = "rho_delta")),
+                     unname(as.matrix(full, pars = "rho_delta")[, (k - 1) * p + seq_len(p)]))
+    expect_identical(unname(as.matrix(one$stanfit, pars = "lambda_eta")[, 1]),
+                     rep(one$emulator$lambda_eta, nrow(as.matrix(full, pars = "tf"))))
+    expect_identical(rstan::get_sampler_params(one$stanfit), rstan::get_sampler_params(full))
+  }
+  conv <- check_convergence(fit, warn = FALSE)
+  expect_true(all(c("electricity:lambda_e", "gas:lambda_e", "equipment_power_density") %in%
+                    conv$variable))
+  expect_equal(sum(conv$variable == "equipment_power_density"), 1L)
+  draws <- posterior::as_draws_array(fit)
+  expect_true(all(c("gas:lambda_delta", "electricity:beta_delta[temp]") %in%
+                    posterior::variables(draws)))
+  expect_snapshot(output_fit(fit, "water"), error = TRUE)
+})
+
+test_that("predictions of two outputs come from the same draws, and their total adds them", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  newdata <- output_fit(fit, "gas")$data$field[c("temp", "rh", "solar")]
+  set.seed(1)
+  draws <- predict(fit, newdata, ndraws = 40, summary = FALSE,
+                   total = c(electricity = 1, gas = 2))
+  expect_named(draws, c("electricity", "gas", "total"))
+  expect_equal(draws$total, draws$electricity + 2 * draws$gas)
+  # each output's draws are that output's own predictions, draw for draw
+  set.seed(1)
+  alone <- predict(output_fit(fit, "electricity"), newdata, ndraws = 40, summary = FALSE)
+  expect_equal(draws$electricity, alone)
+  s <- predict(fit, ndraws = 40)
+  expect_equal(names(s)[1], "output")
+  expect_equal(as.vector(table(s$output)[c("electricity", "gas")]),
+               c(output_fit(fit, 1)$data$n, output_fit(fit, 2)$data$n))
+  expect_snapshot(predict(fit, ndraws = 10, total = c(electricity = 1, gas = 1)), error = TRUE)
+  expect_snapshot(predict(fit, newdata, ndraws = 10, total = c(water = 1)), error = TRUE)
+})
