@@ -35,8 +35,11 @@
 #' @param sim A new simulation table, in the layout of [koh_data()] (by
 #'   position: `eta`, the fit's observable inputs, then the calibration
 #'   parameters).
+#' @param output On a fit on several outputs, the output whose discrepancy
+#'   takes the terms of `with` (one of `names(fit$outputs)`); `sim` is
+#'   then a long table of every output's runs.
 #' @param ... Arguments of [calibrate()] that replace the fit's.
-#' @return A `bayesbem_fit`.
+#' @return A `bayesbem_fit` (on several outputs, a fit on them all).
 #' @family discrepancy
 #' @export
 #' @examples
@@ -46,12 +49,18 @@
 #' posterior::summarise_draws(posterior::subset_draws(posterior::as_draws(ext),
 #'                                                    variable = "gamma"))
 #' }
-extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
-  check_fit(fit)
+extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, output = NULL, ...) {
   if (is.null(with) == is.null(sim)) {
     abort_bayesbem(c("Give either {.arg with} (covariate names) or {.arg sim} (a new simulation table).",
                      i = "{.arg with} adds statistical discrepancy terms; {.arg sim} a simulator with the missing mechanism."),
                    "argument")
+  }
+  if (inherits(fit, "bayesbem_outputs_fit")) {
+    return(extend_outputs(fit, with, covariates, sim, output, ...))
+  }
+  check_fit(fit)
+  if (!is.null(output)) {
+    abort_bayesbem("{.arg output} is for fits on several outputs; this fit has one.", "argument")
   }
   data <- fit$data
   terms <- data$covariates
@@ -64,6 +73,27 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, ...) {
     terms <- extension_covariates(data, with, covariates)
   }
   refit(fit, field = data, covariates = terms, ...)
+}
+
+# extend() of a fit on several outputs: the terms of `with` on one output's
+# discrepancy, or every output's runs from a new long table.
+extend_outputs <- function(fit, with, covariates, sim, output, ..., call = rlang::caller_env()) {
+  terms <- fit_covariates(fit)
+  if (!is.null(sim)) {
+    field <- do.call(rbind, lapply(names(fit$data$outputs), function(k) {
+      cbind(stats::setNames(data.frame(k), fit$data$output), field_table(fit$data$outputs[[k]]))
+    }))
+    scales <- t_scales(fit$data$scaling)
+    data <- koh_data(field, sim, output = fit$data$output,
+                     scales = scales[intersect(names(scales), names(sim))])
+    return(refit(fit, field = data, covariates = terms, ...))
+  }
+  one <- output_fit(fit, output %||% abort_bayesbem(
+    c("On a fit on several outputs, {.arg output} must say whose discrepancy takes the terms.",
+      i = "The outputs: {.val {names(fit$outputs)}}."), "argument", call = call))
+  name <- if (is.numeric(output)) names(fit$outputs)[output] else output
+  terms[[name]] <- extension_covariates(one$data, with, covariates, call = call)
+  refit(fit, covariates = terms, ...)
 }
 
 # Calibrates again with the fit's data, priors and sampler settings; `...`

@@ -4,7 +4,8 @@
 #' its physical units, with the prior density overlaid (flat, or the
 #' truncated normal of an informative prior), over the design range.
 #'
-#' @param x A `bayesbem_fit`.
+#' @param x A `bayesbem_fit`, or a fit on several outputs (the parameters
+#'   they share).
 #' @param fit Deprecated; use `x`.
 #' @param n_grid Number of points at which densities are evaluated.
 #' @return `plot_posteriors()`: a ggplot. `plot_posteriors_data()`: a data
@@ -32,7 +33,7 @@ plot_posteriors <- function(x, n_grid = 200, fit = deprecated()) {
 #' @rdname plot_posteriors
 #' @export
 plot_posteriors_data <- function(x, n_grid = 200, fit = deprecated()) {
-  fit <- renamed_first(x, fit, "plot_posteriors_data", "fit")
+  fit <- output_fit_list(renamed_first(x, fit, "plot_posteriors_data", "fit"))[[1]]
   data <- fit$data
   draws <- parameter_draws(fit)
   bounds <- t_bounds(data$scaling)

@@ -5,7 +5,9 @@
 #' each point, with the measured values as points, one panel per observable
 #' input (the paper's Listing 1 loop).
 #'
-#' @param x A `bayesbem_fit`.
+#' @param x A `bayesbem_fit`, or a fit on several outputs: one row of
+#'   panels per output, at its field data (`newdata` and `obs` then stay
+#'   `NULL`).
 #' @param fit Deprecated; use `x`.
 #' @param newdata Observable inputs to predict at (default: the field
 #'   inputs).
@@ -15,7 +17,7 @@
 #' @return `plot_predictions()`: a ggplot. `plot_predictions_data()`: a data
 #'   frame with one row per point and input: `point`, `input`, `x`, `width`
 #'   (box width), the box statistics `q5`, `q25`, `q50`, `q75`, `q95`, and
-#'   `obs`.
+#'   `obs`; on several outputs, a first column `output`.
 #' @family plots
 #' @family prediction
 #' @export
@@ -25,11 +27,17 @@ plot_predictions <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
                              fit = deprecated()) {
   fit <- renamed_first(x, fit, "plot_predictions", "fit")
   d <- plot_predictions_data(fit, newdata, obs, ndraws)
+  facets <- if (is.null(d$output)) {
+    ggplot2::facet_wrap(ggplot2::vars(.data$input), scales = "free_x")
+  } else {
+    ggplot2::facet_grid(ggplot2::vars(.data$output), ggplot2::vars(.data$input), scales = "free")
+  }
   ggplot2::ggplot(d, ggplot2::aes(x = .data$x, group = .data$point)) +
     geom_quantile_box(ggplot2::aes(width = .data$width), fill = "#cfe0ef", colour = "#1b6ca8") +
     ggplot2::geom_point(ggplot2::aes(y = .data$obs), colour = "#c0392b", na.rm = TRUE) +
-    ggplot2::facet_wrap(ggplot2::vars(.data$input), scales = "free_x") +
-    ggplot2::labs(x = "observable input (physical units)", y = fit$data$names$y,
+    facets +
+    ggplot2::labs(x = "observable input (physical units)",
+                  y = if (is.null(d$output)) fit$data$names$y else "output",
                   caption = "boxes: calibrated prediction eta + delta; points: measured") +
     ggplot2::theme_bw()
 }
@@ -39,6 +47,9 @@ plot_predictions <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
 plot_predictions_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
                                   fit = deprecated()) {
   fit <- renamed_first(x, fit, "plot_predictions_data", "fit")
+  if (inherits(fit, "bayesbem_outputs_fit")) {
+    return(outputs_plot_data(fit, plot_predictions_data, newdata, obs, ndraws))
+  }
   set <- prediction_set(fit, newdata, obs)
   stats <- box_stats(predict_draws(fit, set$x, ndraws = ndraws)$y)
   x_names <- fit$data$names$x
@@ -70,7 +81,7 @@ plot_predictions_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
 #'   data have a period column, see [koh_data()], else its number),
 #'   `component`,
 #'   the box statistics `q5` to `q95`, and `obs` (measured output; `NA` for
-#'   the discrepancy panel).
+#'   the discrepancy panel); on several outputs, a first column `output`.
 #' @family plots
 #' @family prediction
 #' @export
@@ -80,15 +91,17 @@ plot_components <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
                             fit = deprecated()) {
   fit <- renamed_first(x, fit, "plot_components", "fit")
   d <- plot_components_data(fit, newdata, obs, ndraws)
+  columns <- if (is.null(d$output)) ggplot2::vars(.data$set) else ggplot2::vars(.data$output)
   zero <- data.frame(component = factor(component_labels()[3], levels = component_labels()),
                      y = 0)
   ggplot2::ggplot(d, ggplot2::aes(x = .data$period, group = .data$period)) +
     ggplot2::geom_hline(data = zero, ggplot2::aes(yintercept = .data$y), colour = "grey50") +
     geom_quantile_box(ggplot2::aes(), width = 0.6, fill = "#cfe0ef", colour = "#1b6ca8") +
     ggplot2::geom_point(ggplot2::aes(y = .data$obs), colour = "#c0392b", na.rm = TRUE) +
-    ggplot2::facet_grid(ggplot2::vars(.data$component), ggplot2::vars(.data$set),
-                        scales = "free", space = "free_x") +
-    ggplot2::labs(x = if (is.null(fit$data$names$period)) "point" else "period", y = NULL,
+    ggplot2::facet_grid(ggplot2::vars(.data$component), columns, scales = "free",
+                        space = "free_x") +
+    ggplot2::labs(x = if (is.null(output_fit_list(fit)[[1]]$data$names$period)) "point" else "period",
+                  y = NULL,
                   caption = "boxes: posterior draws; points: measured output") +
     ggplot2::theme_bw() +
     ggplot2::theme(axis.text.x = ggplot2::element_text(angle = 90, vjust = 0.5, hjust = 1))
@@ -99,6 +112,9 @@ plot_components <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
 plot_components_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
                                  fit = deprecated()) {
   fit <- renamed_first(x, fit, "plot_components_data", "fit")
+  if (inherits(fit, "bayesbem_outputs_fit")) {
+    return(outputs_plot_data(fit, plot_components_data, newdata, obs, ndraws))
+  }
   sets <- evaluation_sets(fit, newdata, obs)
   labels <- component_labels()
   rows <- lapply(names(sets), function(set) {
@@ -120,3 +136,20 @@ plot_components_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
 }
 
 component_labels <- function() c("eta + delta", "eta", "delta / y (%)")
+
+# A plot's data for each output of a fit on several outputs, with a first
+# column `output`: the outputs' own field data (other inputs are given
+# output by output, on output_fit()).
+outputs_plot_data <- function(fit, data_fun, newdata, obs, ndraws, call = rlang::caller_env()) {
+  if (!is.null(newdata) || !is.null(obs)) {
+    abort_bayesbem(c("On a fit on several outputs, this plot shows each output's field data.",
+                     i = "For other inputs, plot one output: {.code output_fit(fit, \"{names(fit$outputs)[1]}\")}."),
+                   "argument", call = call)
+  }
+  rows <- lapply(names(fit$outputs), function(k) {
+    cbind(output = k, data_fun(fit$outputs[[k]], ndraws = ndraws))
+  })
+  out <- do.call(rbind, rows)
+  out$output <- factor(out$output, levels = names(fit$outputs))
+  out
+}

@@ -6,7 +6,8 @@
 #' `lambda_e`, drawn by [bayesplot::mcmc_trace()]. Well-mixed chains look
 #' like stationary noise that overlaps.
 #'
-#' @param x A `bayesbem_fit`.
+#' @param x A `bayesbem_fit`, or a fit on several outputs (each output's
+#'   variables named as `posterior::as_draws()` names them, `"gas:lambda_e"`).
 #' @param fit Deprecated; use `x`.
 #' @param variables Variables to show (names as in
 #'   `posterior::variables(posterior::as_draws(fit))`); all by default.
@@ -32,7 +33,7 @@ plot_trace_data <- function(x, variables = NULL, fit = deprecated()) {
 }
 
 trace_draws <- function(fit, variables) {
-  draws <- as_draws_array.bayesbem_fit(fit)
+  draws <- posterior::as_draws_array(fit)
   variables <- variables %||% setdiff(posterior::variables(draws), "lp__")
   unknown <- setdiff(variables, posterior::variables(draws))
   if (length(unknown) > 0L) {

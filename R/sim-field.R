@@ -21,7 +21,8 @@
 #'   affects.
 #' @param noise_sd Standard deviation of the Gaussian measurement noise; for
 #'   a simulator of several outputs, one number for all or a named vector
-#'   with one per output (in each output's units).
+#'   with one per output (in each output's units; an output not named gets
+#'   none).
 #' @param seed Random seed of the noise.
 #' @return A data frame `[y, x, covariates]` in the layout [calibrate()]
 #'   takes, with attributes `truth` (all parameter values), `simulated` (the
@@ -91,7 +92,9 @@ field_outputs <- function(simulated, inputs, params, effect, noise_sd, seed,
   if (length(noise_sd) == 1L && is.null(names(noise_sd))) {
     noise_sd <- stats::setNames(rep(noise_sd, length(outputs)), outputs)
   }
-  noise <- with_seed(seed, lapply(outputs, function(k) stats::rnorm(nrow(inputs), sd = noise_sd[[k]] %||% 0)))
+  noise <- with_seed(seed, lapply(outputs, function(k) {
+    stats::rnorm(nrow(inputs), sd = if (k %in% names(noise_sd)) noise_sd[[k]] else 0)
+  }))
   rows <- lapply(seq_along(outputs), function(j) {
     k <- outputs[j]
     hidden <- hidden_effect(effect[[k]], inputs, sprintf("effect$%s", k), call)

@@ -72,6 +72,52 @@ print.bayesbem_simulator <- function(x, ...) {
   invisible(x)
 }
 
+#' One output of a simulator of several
+#'
+#' A simulator of several outputs (meters) gives every output from one run.
+#' The tools that rerun a simulator for one fit ([validate_emulator()],
+#' [predict_scenario()], [savings()], [avoided_energy()],
+#' [posterior_simulate()]) take one output; `output_simulator()` gives the
+#' simulator of one, to use with that output's fit ([output_fit()]).
+#'
+#' @param simulator A `bayesbem_simulator` whose runs return several
+#'   outputs.
+#' @param output The output's name.
+#' @return A `bayesbem_simulator` returning that output alone. Each run
+#'   still computes every output; the cache of [simulate_design()] keys its
+#'   runs by the simulator as it is when `output_simulator()` is called and
+#'   the output.
+#' @family simulation
+#' @export
+#' @examples
+#' both <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"),
+#'                       output = c("electricity", "gas"))
+#' gas <- output_simulator(both, "gas")
+#' simulate_design(gas, data.frame(infiltration_per_exterior_area = 0.001))
+output_simulator <- function(simulator, output) {
+  if (!inherits(simulator, "bayesbem_simulator")) {
+    abort_bayesbem(c("{.arg simulator} must be a simulator, not {.obj_type_friendly {simulator}}.",
+                     i = "Make one with {.fn simulator}, {.fn bem_simulator} or {.fn eplus_simulator}."),
+                   "argument")
+  }
+  if (!rlang::is_string(output)) {
+    abort_bayesbem("{.arg output} must be an output's name, not {describe_value(output)}.",
+                   "argument")
+  }
+  fun <- simulator$fun
+  one <- function(params, x) {
+    values <- fun(params, x)
+    if (!is.data.frame(values) || !output %in% names(values)) {
+      stop(sprintf("the simulator gave no output \"%s\" (it gave %s)", output,
+                   if (is.data.frame(values)) paste(names(values), collapse = ", ") else "one output"),
+           call. = FALSE)
+    }
+    values[[output]]
+  }
+  simulator(one, simulator$x, simulator$parameters, name = paste0(simulator$name, ": ", output),
+            key = list(simulator_key(simulator), output))
+}
+
 #' The embedded monthly building model as a simulator
 #'
 #' The default simulator of the package: [bem_monthly()] driven by the

@@ -97,3 +97,20 @@ test_that("an extension by a region predicts from the inputs it names", {
   }
   expect_equal(draws(case$holdout), draws(given))
 })
+
+test_that("extend() puts the terms on one output's discrepancy of a fit on several", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  n_gas <- output_fit(fit, "gas")$data$n
+  change <- data.frame(after_change = as.numeric(seq_len(n_gas) > 6))
+  ext <- suppressWarnings(extend(fit, with = "after_change", covariates = change, output = "gas"))
+  expect_s3_class(ext, "bayesbem_outputs_fit")
+  gas <- posterior::variables(posterior::as_draws(output_fit(ext, "gas")))
+  electricity <- posterior::variables(posterior::as_draws(output_fit(ext, "electricity")))
+  expect_true("gamma[after_change]" %in% gas)
+  expect_false(any(startsWith(electricity, "gamma")))
+  expect_equal(output_fit(ext, "gas")$data$covariates$after_change, change$after_change)
+  expect_error(extend(fit, with = "after_change", covariates = change),
+               class = "bayesbem_error_argument")
+  expect_error(extend(seb_fit, with = "temp", output = "gas"), class = "bayesbem_error_argument")
+})

@@ -140,3 +140,19 @@ test_that("predictions of two outputs come from the same draws, and their total 
   expect_snapshot(predict(fit, ndraws = 10, total = c(electricity = 1, gas = 1)), error = TRUE)
   expect_snapshot(predict(fit, newdata, ndraws = 10, total = c(water = 1)), error = TRUE)
 })
+
+test_that("each output's emulator is checked against its own meter", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  sim <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  gas_fit <- output_fit(fit, "gas")
+  check <- validate_emulator(gas_fit, output_simulator(sim, "gas"), ndraws = 3)
+  # gas's 11 field periods (no August bill), at each draw, against gas runs
+  expect_equal(nrow(check$table), 3 * 11)
+  expect_equal(unique(check$table$draw), attr(bayesbem:::draw_parameters(gas_fit, 3), "index"))
+  draws <- as.data.frame(posterior::as_draws_df(posterior::as_draws(gas_fit)))
+  at <- as.list(draws[check$table$draw[1], fit$data$names$t])
+  base <- stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
+  truth <- bem_monthly(utils::modifyList(base, at), epw_monthly(shipped_epw(2013)))$gas[-8]
+  expect_equal(check$table$simulated[1:11], truth, tolerance = 1e-10)
+})

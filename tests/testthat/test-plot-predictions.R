@@ -57,3 +57,22 @@ test_that("prediction plots draw", {
     plot_components(seb_fit, newdata = seb_field[1:3, ], obs = seb_field$y[1:3], ndraws = 100)
   )
 })
+
+test_that("plots of a fit on several outputs have a row of panels per output", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  d <- plot_components_data(fit, ndraws = 20)
+  expect_equal(levels(d$output), c("electricity", "gas"))
+  # each output at its own field periods: gas has one bill fewer
+  expect_equal(as.vector(table(d$output[d$component == levels(d$component)[1]])), c(12L, 11L))
+  gas <- plot_components_data(output_fit(fit, "gas"), ndraws = 20)
+  expect_equal(d[d$output == "gas", "obs"], gas$obs)
+  expect_s3_class(plot_components(fit, ndraws = 20), "ggplot")
+  p <- plot_predictions_data(fit, ndraws = 20)
+  expect_equal(nrow(p), 3 * (12 + 11))
+  expect_s3_class(plot_predictions(fit, ndraws = 20), "ggplot")
+  expect_error(plot_predictions(fit, newdata = seb_field), class = "bayesbem_error_argument")
+  expect_equal(levels(plot_posteriors_data(fit)$parameter), fit$data$names$t)
+  expect_setequal(unique(plot_trace_data(fit, c("gas:lambda_e", "equipment_power_density"))$parameter),
+                  c("gas:lambda_e", "equipment_power_density"))
+})

@@ -42,3 +42,16 @@ test_that("the embedded model gives both meters from one run", {
   expect_error(bem_simulator(shipped_epw(2013), output = character()),
                class = "bayesbem_error_argument")
 })
+
+test_that("output_simulator() gives one output of a simulator of several", {
+  both <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  gas <- output_simulator(both, "gas")
+  design <- data.frame(infiltration_per_exterior_area = c(0.0005, 0.001))
+  runs <- simulate_design(both, design)
+  expect_equal(simulate_design(gas, design)$eta, runs$eta[runs$output == "gas"])
+  expect_match(gas$name, ": gas$")
+  water <- output_simulator(both, "water")
+  expect_warning(out <- simulate_design(water, design), class = "bayesbem_warning_simulation")
+  expect_match(attr(out, "failed")$error[1], "no output \"water\"", fixed = TRUE)
+  expect_error(output_simulator("sim", "gas"), class = "bayesbem_error_argument")
+})

@@ -29,10 +29,11 @@ test_that("the calibration vignette renders with its figures and comparison tabl
   expect_rendered("calibration", 5, c("This package and the paper", "grid likelihood"))
 })
 
-test_that("the discrepancy vignette renders, finds the hidden step and the weekend fault", {
+test_that("the discrepancy vignette renders, finds the hidden step, the weekend fault and the gas appliance", {
   skip_on_cran()
   expect_rendered("discrepancy", 1, c("best explained by after_change", "b predicts better",
-                                      "best explained by weekend"))
+                                      "best explained by weekend", "informed_by_gas",
+                                      "gas:gamma[after_change]"))
 })
 
 test_that("the savings vignette renders its held-out check, savings and avoided energy", {
