@@ -139,7 +139,18 @@ check_scenario_range <- function(simulator, design, what, call = rlang::caller_e
 #'   values at the scenario's periods, a data frame with one row per period.
 #' @param cache_dir Optional directory for cached runs, see
 #'   [simulate_design()].
+#' @param total On a fit on several outputs, optional weights by output
+#'   (`c(electricity = 1, gas = 1)`, or prices) of a total predicted draw
+#'   by draw.
 #' @param ... Unused.
+#' @section Several outputs: On a fit on several outputs the scenario's
+#'   simulator gives them all (e.g. `bem_simulator(output = c("electricity",
+#'   "gas"))`); each run at a draw serves every output, each output is
+#'   predicted as above from the same draws, and `total` weights them into
+#'   a total (site energy, cost). `covariates` is then a list of tables by
+#'   output. The result, a `bayesbem_scenario_predictions`, holds each
+#'   output's prediction in `outputs` and the total's draws in `total`;
+#'   `summary()` stacks their summaries with a first column `output`.
 #' @return A `bayesbem_scenario_prediction`: a list with `y` (draws by periods:
 #'   the prediction), `simulated` (the simulator's outputs) and `delta`
 #'   (the discrepancy; zero without it), `inputs` (the scenario's
@@ -157,9 +168,17 @@ check_scenario_range <- function(simulator, design, what, call = rlang::caller_e
 #' summary(p)
 #' }
 predict_scenario <- function(fit, scenario, ndraws = 40, discrepancy = TRUE, noise = TRUE,
-                             covariates = NULL, cache_dir = NULL, ...) {
+                             covariates = NULL, cache_dir = NULL, total = NULL, ...) {
   rlang::check_dots_empty()
+  if (inherits(fit, "bayesbem_outputs_fit")) {
+    return(predict_scenario_outputs(fit, scenario, ndraws, discrepancy, noise, covariates,
+                                    cache_dir, total))
+  }
   check_fit(fit)
+  if (!is.null(total)) {
+    abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
+                   "argument")
+  }
   scenario <- as_scenario(scenario)
   check_bool(discrepancy)
   check_bool(noise)
@@ -188,6 +207,71 @@ print.bayesbem_scenario_prediction <- function(x, ...) {
   cat_lines("{.cls bayesbem_scenario_prediction}: {x$scenario$name}",
             "* {x$scenario$simulator$name}, {ncol(x$y)} period{?s}",
             "* {nrow(x$y)} posterior draw{?s}: {and_list(parts)}", "")
+  print_rounded(summary(x), 4)
+  invisible(x)
+}
+
+# predict_scenario() of a fit on several outputs (see its section).
+predict_scenario_outputs <- function(fit, scenario, ndraws, discrepancy, noise, covariates,
+                                     cache_dir, total, call = rlang::caller_env()) {
+  scenario <- as_scenario(scenario, "scenario", call = call)
+  shared <- shared_runs(scenario$simulator)
+  outputs <- names(fit$outputs)
+  preds <- lapply(stats::setNames(outputs, outputs), function(k) {
+    one <- scenario
+    one$simulator <- output_simulator(shared, k)
+    predict_scenario(fit$outputs[[k]], one, ndraws = ndraws, discrepancy = discrepancy,
+                     noise = noise, covariates = covariates[[k]], cache_dir = cache_dir)
+  })
+  draws <- Reduce(intersect, lapply(preds, `[[`, "draw"))
+  y_total <- if (!is.null(total)) {
+    check_total_weights(total, lapply(preds, `[[`, "inputs"), call = call)
+    Reduce(`+`, lapply(names(total), function(k) {
+      total[[k]] * preds[[k]]$y[match(draws, preds[[k]]$draw), , drop = FALSE]
+    }))
+  }
+  structure(list(outputs = preds, total = y_total, weights = total, draw = draws,
+                 scenario = scenario),
+            class = "bayesbem_scenario_predictions")
+}
+
+# A simulator whose runs are made once for every output asked of it in
+# this session (output_simulator() of it, one per output): its function
+# keeps each run's outputs by parameter values. Its cache key stays the
+# simulator's own.
+shared_runs <- function(simulator) {
+  made <- new.env(parent = emptyenv())
+  fun <- simulator$fun
+  key <- simulator_key(simulator)
+  simulator$fun <- function(params, x) {
+    id <- rlang::hash(list(params, x))
+    if (is.null(made[[id]])) made[[id]] <- fun(params, x)
+    made[[id]]
+  }
+  simulator$key <- key
+  simulator
+}
+
+#' @export
+summary.bayesbem_scenario_predictions <- function(object, probs = c(0.05, 0.5, 0.95), ...) {
+  rlang::check_dots_empty()
+  rows <- lapply(names(object$outputs), function(k) {
+    cbind(output = k, summary(object$outputs[[k]], probs = probs))
+  })
+  if (!is.null(object$total)) {
+    inputs <- object$outputs[[names(object$weights)[1]]]$inputs
+    rows <- c(rows, list(cbind(output = "total", draws_with_total(object$total, inputs, probs))))
+  }
+  do.call(rbind, rows)
+}
+
+#' @export
+print.bayesbem_scenario_predictions <- function(x, ...) {
+  rlang::check_dots_empty()
+  cat_lines("{.cls bayesbem_scenario_predictions}: {x$scenario$name}",
+            "* {x$scenario$simulator$name}",
+            "* outputs {.val {names(x$outputs)}}{if (!is.null(x$total)) ' and their total' else ''}, {length(x$draw)} posterior draw{?s}",
+            "")
   print_rounded(summary(x), 4)
   invisible(x)
 }

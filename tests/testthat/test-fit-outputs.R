@@ -156,3 +156,28 @@ test_that("each output's emulator is checked against its own meter", {
   truth <- bem_monthly(utils::modifyList(base, at), epw_monthly(shipped_epw(2013)))$gas[-8]
   expect_equal(check$table$simulated[1:11], truth, tolerance = 1e-10)
 })
+
+test_that("scenarios of a fit on several outputs: one run per draw for all, and their total", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  sim <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  calls <- 0
+  counting <- simulator(function(params, x) {
+    calls <<- calls + 1
+    sim$fun(params, x)
+  }, sim$x, sim$parameters)
+  set.seed(2)
+  p <- predict_scenario(fit, counting, ndraws = 5, total = c(electricity = 1, gas = 2))
+  expect_equal(calls, 5)
+  expect_equal(p$total, p$outputs$electricity$y + 2 * p$outputs$gas$y)
+  s <- summary(p)
+  expect_equal(unique(s$output), c("electricity", "gas", "total"))
+  expect_equal(s$mean[s$output == "total" & s$period == "total"], mean(rowSums(p$total)))
+  # each output's prediction is that output's own, from the same draws
+  set.seed(2)
+  alone <- predict_scenario(output_fit(fit, "electricity"), output_simulator(sim, "electricity"),
+                            ndraws = 5)
+  expect_equal(p$outputs$electricity$y, alone$y)
+  expect_equal(p$outputs$gas$draw, alone$draw)
+  expect_error(predict_scenario(seb_fit, sim, total = c(a = 1)), class = "bayesbem_error_argument")
+})
