@@ -22,8 +22,8 @@ output_elements <- function(k, p, q, n_b, n_h) {
 # The stanfit `sf` reduced to some elements of its parameters (`elements`, a
 # list by parameter; a parameter not named keeps all of its), renamed as a
 # one-output program names them: element j of those kept is `par[j]`, and a
-# parameter in `scalars` is `par`. The sampler's diagnostics and settings
-# are kept as they are.
+# parameter in `scalars` is `par`; the chains' starting values likewise.
+# The sampler's diagnostics and settings are kept as they are.
 output_stanfit <- function(sf, elements, scalars) {
   old <- new <- character()
   dims <- list()
@@ -57,7 +57,13 @@ output_stanfit <- function(sf, elements, scalars) {
   sf@sim$pars_oi <- sf@model_pars
   sf@sim$dims_oi <- dims[sf@model_pars]
   sf@par_dims <- dims[sf@model_pars]
-  sf@inits <- list()
+  sf@inits <- lapply(sf@inits, function(chain) {
+    for (par in intersect(names(chain), names(elements))) {
+      kept <- as.vector(chain[[par]])[elements[[par]]]
+      chain[[par]] <- if (par %in% scalars) kept else as.array(kept)
+    }
+    chain
+  })
   sf
 }
 

@@ -15,13 +15,22 @@
 # 0.5 "learnt", above 0.8 "prior-driven", as identifiability() says),
 # coverage of the truth by the 90 % interval, fits that pass
 # check_convergence(), and the median wall time of a fit.
+# `gradient` instead times one gradient of stage 2 (koh_modular.stan,
+# separable emulator, and koh_basis.stan) on electricity alone and on both
+# meters, n days of 2013 per meter, 30 runs of the embedded model: the
+# cost of a second output per gradient.
 # Usage, from the package root with bayesbem installed:
 #   Rscript bench/bench-multi-output.R [simulators] [problems]
 #   e.g. embedded 1-10 (the defaults: embedded,eplus and 1-10)
+#   Rscript bench/bench-multi-output.R gradient [n values, comma-separated]
 # BENCH_FITS=<folder> keeps the runs and each problem's results.
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
+if (identical(args[1], "gradient")) {
+  ns <- if (length(args) > 1) as.integer(strsplit(args[2], ",")[[1]]) else c(36, 120, 365)
+  ns_gradient <- ns
+}
 arg <- function(k, default) if (length(args) >= k) strsplit(args[k], ",")[[1]] else default
 kinds <- arg(1, c("embedded", "eplus"))
 span <- as.integer(strsplit(arg(2, "1-10"), "-")[[1]])
@@ -100,6 +109,51 @@ run_problem <- function(kind, sim, runs, k) {
   out <- do.call(rbind, rows)
   if (!is.null(path)) saveRDS(out, path)
   out
+}
+
+# ms per gradient of stage 2 at one point (mean over about a second of calls).
+gradient_ms <- function(program, data) {
+  utils::capture.output(fit0 <- rstan::sampling(bayesbem:::stanmodels[[program]], data = data,
+                                                chains = 0))
+  u <- rep(0.1, rstan::get_num_upars(fit0))
+  one <- system.time(rstan::grad_log_prob(fit0, u))[["elapsed"]]
+  reps <- max(3L, ceiling(1 / max(one, 1e-3)))
+  1000 * system.time(for (i in seq_len(reps)) rstan::grad_log_prob(fit0, u))[["elapsed"]] / reps
+}
+gradient_table <- function(ns) {
+  daily <- epw_daily(epw(2013))
+  priors <- koh_priors()
+  rows <- lapply(ns, function(n) {
+    sim <- bem_simulator(daily[unique(round(seq(1, nrow(daily), length.out = n))), ],
+                         output = c("electricity", "gas"))
+    pars <- sim$parameters[sim$parameters$parameter %in% calibrated, ]
+    field <- simulate_field(sim, list(equipment_power_density = 15), noise_sd = 1, seed = 1)
+    runs <- simulate_design(sim, design_lhs(pars, 30, seed = 2))
+    both <- koh_data(field, runs)
+    one <- both$outputs$electricity
+    emulator <- function(d) {
+      list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+           b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))),
+           basis = bayesbem:::basis_emulator(d))
+    }
+    ems <- lapply(both$outputs, emulator)
+    ms <- function(d, em) {
+      c(separable = gradient_ms("koh_modular", bayesbem:::modular_stan_data(d, priors, em)),
+        basis = gradient_ms("koh_basis", bayesbem:::basis_stan_data(d, priors, em)))
+    }
+    a <- ms(one, ems$electricity)
+    b <- ms(both, ems)
+    data.frame(n_per_meter = n, separable_1 = a[["separable"]], separable_2 = b[["separable"]],
+               basis_1 = a[["basis"]], basis_2 = b[["basis"]])
+  })
+  out <- do.call(rbind, rows)
+  cat(sprintf("\nbench-multi-output.R gradient, %s; %s\nms per stage-2 gradient, one meter (_1) and two (_2):\n",
+              format(Sys.Date()), extSoftVersion()[["BLAS"]]))
+  print(out, digits = 3, row.names = FALSE)
+}
+if (exists("ns_gradient")) {
+  gradient_table(ns_gradient)
+  quit(save = "no")
 }
 
 results <- do.call(rbind, lapply(kinds, function(kind) {

@@ -109,6 +109,9 @@ test_that("a fit on two outputs: shared draws, each output a fit of its own", {
     expect_identical(unname(as.matrix(one$stanfit, pars = "lambda_eta")[, 1]),
                      rep(one$emulator$lambda_eta, nrow(as.matrix(full, pars = "tf"))))
     expect_identical(rstan::get_sampler_params(one$stanfit), rstan::get_sampler_params(full))
+    # the chains' starting values, as a one-output fit records them
+    expect_identical(one$stanfit@inits[[2]]$lambda_e, as.vector(full@inits[[2]]$lambda_e)[k])
+    expect_identical(one$stanfit@inits[[2]]$tf, full@inits[[2]]$tf)
   }
   conv <- check_convergence(fit, warn = FALSE)
   expect_true(all(c("electricity:lambda_e", "gas:lambda_e", "equipment_power_density") %in%
