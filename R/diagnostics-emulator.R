@@ -63,9 +63,16 @@
 #' but other input values is taken in order, with a warning of class
 #' `bayesbem_warning_simulator`.
 #'
-#' @param fit A `bayesbem_fit`.
+#' On a fit on several outputs, with the simulator of them all,
+#' `validate_emulator()` checks each output's emulator against that
+#' output of the same runs (one run per draw serves every output) and
+#' returns the checks in a list by output.
+#'
+#' @param fit A `bayesbem_fit`, or for `validate_emulator()` a fit on
+#'   several outputs.
 #' @param simulator A `bayesbem_simulator` whose parameters include the
-#'   fit's calibration parameters (others are held at their initial values).
+#'   fit's calibration parameters (others are held at their initial values);
+#'   on several outputs, one that gives them all.
 #' @param ndraws Number of posterior draws (evenly spaced) to run the
 #'   simulator at.
 #' @param level Level of the emulator's intervals.
@@ -83,7 +90,9 @@
 #'   `parameter`, `shift` and `z`, the draws' shifts in `attr(, "draws")`),
 #'   `distance` (median distance of the
 #'   draws to the nearest run over the runs' median nearest-neighbour
-#'   distance), `trusted` and `verdict`. `posterior_simulate()`: the
+#'   distance), `trusted` and `verdict`; on several outputs, a
+#'   `bayesbem_emulator_checks`, the list of them by output.
+#'   `posterior_simulate()`: the
 #'   field inputs with `mean`, `sd` and quantiles of the simulator's output,
 #'   or the matrix.
 #' @family diagnostics
@@ -100,6 +109,14 @@
 validate_emulator <- function(fit, simulator, ndraws = 20, level = 0.9, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
   check_probability(level)
+  if (inherits(fit, "bayesbem_outputs_fit")) {
+    check_simulator(simulator)
+    shared <- shared_runs(simulator)
+    return(structure(lapply(stats::setNames(names(fit$outputs), names(fit$outputs)), function(k) {
+      validate_emulator(fit$outputs[[k]], output_simulator(shared, k), ndraws = ndraws,
+                        level = level, cache_dir = cache_dir)
+    }), class = "bayesbem_emulator_checks"))
+  }
   runs <- posterior_runs(fit, simulator, ndraws, cache_dir)
   data <- fit$data
   x <- field_inputs(data)[data$names$x]
@@ -313,6 +330,17 @@ design_distance <- function(data, draws) {
     return(Inf)
   }
   stats::median(nearest(tf, tc, FALSE)) / stats::median(nearest(tc, tc, TRUE))
+}
+
+#' @export
+print.bayesbem_emulator_checks <- function(x, ...) {
+  rlang::check_dots_empty()
+  for (k in names(x)) {
+    cat(sprintf("%s:\n", k))
+    print(x[[k]])
+    cat("\n")
+  }
+  invisible(x)
 }
 
 #' @export

@@ -158,6 +158,17 @@ test_that("each output's emulator is checked against its own meter", {
   base <- stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
   truth <- bem_monthly(utils::modifyList(base, at), epw_monthly(shipped_epw(2013)))$gas[-8]
   expect_equal(check$table$simulated[1:11], truth, tolerance = 1e-10)
+  # or every output at once, one run per draw for all
+  calls <- 0
+  counting <- simulator(function(params, x) {
+    calls <<- calls + 1
+    sim$fun(params, x)
+  }, sim$x, sim$parameters)
+  checks <- validate_emulator(fit, counting, ndraws = 3)
+  expect_equal(calls, 3)
+  expect_named(checks, c("electricity", "gas"))
+  expect_equal(checks$gas$table, check$table)
+  expect_output(print(checks), "gas:")
 })
 
 test_that("scenarios of a fit on several outputs: one run per draw for all, and their total", {
