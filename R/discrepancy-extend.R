@@ -192,6 +192,11 @@ check_columns_vary <- function(d, call = rlang::caller_env()) {
 }
 
 check_fit <- function(fit, arg = rlang::caller_arg(fit), call = rlang::caller_env()) {
+  if (inherits(fit, "bayesbem_outputs_fit")) {
+    abort_bayesbem(c("{.arg {arg}} is a fit on several outputs; this tool reads one output.",
+                     i = "Take one with {.code output_fit({arg}, \"{names(fit$outputs)[1]}\")}."),
+                   "argument", call = call)
+  }
   if (!inherits(fit, "bayesbem_fit")) {
     abort_bayesbem(c("{.arg {arg}} must be a {.cls bayesbem_fit} from {.fn calibrate}.",
                      x = "It is {.obj_type_friendly {fit}}."),

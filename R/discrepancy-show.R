@@ -43,6 +43,7 @@
 #' d
 #' plot_discrepancy(d)
 discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = NULL) {
+  check_fit(fit)
   check_probability(level)
   if (!is.null(newdata) && is.null(obs)) {
     abort_bayesbem("Give {.arg obs}, the measured outputs at {.arg newdata}.", "argument")

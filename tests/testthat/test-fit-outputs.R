@@ -195,3 +195,12 @@ test_that("scenarios of a fit on several outputs: one run per draw for all, and 
   expect_equal(p$outputs$gas$draw, alone$draw)
   expect_error(predict_scenario(seb_fit, sim, total = c(a = 1)), class = "bayesbem_error_argument")
 })
+
+test_that("a tool that reads one output says how to take it from a fit on several", {
+  skip_on_cran()
+  withr::local_options(cli.num_colors = 1)
+  fit <- two_output_fit()
+  expect_snapshot(discrepancy(fit), error = TRUE)
+  expect_error(explain_discrepancy(fit), class = "bayesbem_error_argument")
+  expect_error(savings(fit, NULL, NULL), class = "bayesbem_error_argument")
+})
