@@ -1,0 +1,102 @@
+# Predictions of a fit on several outputs: each output's from the same
+# posterior draws, and their weighted totals.
+
+#' Calibrated predictions of a fit on several outputs
+#'
+#' [predict()] for each output of a fit on several outputs, from the same
+#' posterior draws, and optionally their weighted total (site energy, or
+#' cost with prices per unit of each output), draw by draw, so that the
+#' total's uncertainty holds the outputs' dependence through the shared
+#' parameters.
+#'
+#' @inheritParams predict.bayesbem_fit
+#' @param object A fit on several outputs.
+#' @param newdata Observable inputs: a data frame for every output, or a
+#'   long one whose `output` column (the column the data named outputs by)
+#'   says which output each row is for; by default each output's field
+#'   inputs.
+#' @param total Optional named weights by output, e.g. `c(electricity = 1,
+#'   gas = 1)` for the energy of both meters, or their prices for the cost:
+#'   adds the rows of output `"total"`, the weighted sum of the outputs
+#'   named at each row. Needs the same inputs for every output (`newdata`
+#'   without an `output` column, or outputs with the same field periods).
+#' @return With `summary = TRUE`, the data frame of [predict.bayesbem_fit()]
+#'   with a first column `output`; else a list of draws-by-points matrices
+#'   by output (and `total`).
+#' @family prediction
+#' @export
+predict.bayesbem_outputs_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"),
+                                         ndraws = NULL, summary = TRUE, noise = FALSE,
+                                         probs = c(0.05, 0.5, 0.95), total = NULL, ...) {
+  rlang::check_dots_empty()
+  type <- match_choice(type)
+  check_bool(summary)
+  check_bool(noise)
+  inputs <- outputs_newdata(object, newdata)
+  draws <- lapply(stats::setNames(names(inputs), names(inputs)), function(k) {
+    predict_draws(object$outputs[[k]], inputs[[k]], ndraws = ndraws, noise = noise)[[type]]
+  })
+  if (!is.null(total)) {
+    check_total_weights(total, inputs)
+    draws$total <- Reduce(`+`, Map(`*`, draws[names(total)], total))
+    inputs$total <- inputs[[names(total)[1]]]
+  }
+  if (!summary) {
+    return(draws)
+  }
+  x <- object$data$names$x
+  rows <- lapply(names(draws), function(k) {
+    cbind(output = k, summarise_columns(draws[[k]], inputs[[k]][x], probs))
+  })
+  do.call(rbind, rows)
+}
+
+# The inputs at which each output is predicted, by output (see
+# predict.bayesbem_outputs_fit()).
+outputs_newdata <- function(fit, newdata, call = rlang::caller_env()) {
+  outputs <- names(fit$outputs)
+  if (is.null(newdata)) {
+    return(lapply(fit$outputs, function(f) field_inputs(f$data)))
+  }
+  newdata <- as_numeric_table(newdata, "newdata", call = call)
+  column <- fit$data$output
+  if (!column %in% names(newdata)) {
+    return(stats::setNames(rep(list(newdata), length(outputs)), outputs))
+  }
+  named <- unique(as.character(newdata[[column]]))
+  unknown <- setdiff(named, outputs)
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("{.arg newdata} names output{?s} {.val {unknown}}, not among the fit's.",
+                     i = "The fit's outputs: {.val {outputs}}."),
+                   "outputs", call = call)
+  }
+  lapply(stats::setNames(named, named), function(k) {
+    newdata[as.character(newdata[[column]]) == k, setdiff(names(newdata), column), drop = FALSE]
+  })
+}
+
+# Weights of a total: numbers named by predicted outputs, whose inputs agree.
+check_total_weights <- function(total, inputs, call = rlang::caller_env()) {
+  example <- sprintf("total = c(%s = 1)", names(inputs)[1])
+  if (!is.numeric(total) || is.null(names(total)) || anyNA(total)) {
+    abort_bayesbem(c("{.arg total} must be numbers named by output, not {describe_value(total)}.",
+                     i = "For example {.code {example}}."),
+                   "argument", call = call)
+  }
+  unknown <- setdiff(names(total), names(inputs))
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("{.arg total} names {.val {unknown}}, not among the outputs predicted.",
+                     i = "The outputs predicted: {.val {names(inputs)}}."),
+                   "argument", call = call)
+  }
+  same <- vapply(inputs[names(total)], function(d) {
+    nrow(d) == nrow(inputs[[names(total)[1]]]) && isTRUE(all.equal(d, inputs[[names(total)[1]]],
+                                                                   check.attributes = FALSE))
+  }, logical(1))
+  if (!all(same)) {
+    abort_bayesbem(c("A total needs the same inputs for every output it adds.",
+                     x = "{.val {names(total)[!same]}} {?is/are} predicted at other inputs than {.val {names(total)[1]}}.",
+                     i = "Give {.arg newdata} without an output column: one set of inputs for all outputs."),
+                   "argument", call = call)
+  }
+}
