@@ -55,7 +55,9 @@ koh_data_outputs <- function(field, sim, output, args, call = rlang::caller_env(
     with_output_context(k, call, do.call(koh_data, c(list(fields[[k]], sims[[k]]),
                                                      utils::modifyList(args, list(scales = scales)))))
   }
-  first <- lapply(stats::setNames(outputs, outputs), one, scales = args$scales)
+  # a first pass for the names and each output's own choice of scales (its
+  # messages come again in the second)
+  first <- suppressMessages(lapply(stats::setNames(outputs, outputs), one, scales = args$scales))
   check_shared_names(first, call)
   t_names <- first[[1]]$names$t
   order_key <- unique(row_keys(as.matrix(sims[[1]][t_names])))
