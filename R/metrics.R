@@ -103,6 +103,7 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #' @param ndraws Number of posterior draws to use (all by default through
 #'   the emulator; 40 through a simulator).
 #' @param cache_dir Optional directory for cached simulator runs.
+#' @param frequency Deprecated; use `by`.
 #' @return A data frame (class `bayesbem_metrics`, printed with 2 decimals) with
 #'   one row per data set (`set`: `training`, `held-out`) and `prediction`
 #'   (`simulator`, `calibrated`): `route` (`emulator` or `simulator`), `n`,
