@@ -20,7 +20,12 @@
 #'
 #' Savings are of the expected use (no observation noise).
 #'
-#' @param fit A `bayesbem_fit`.
+#' On a fit on several outputs (with scenarios whose simulators give them
+#' all), each output's savings come from the same runs, one per draw and
+#' scenario for every output, and `total` weights them into a total (site
+#' energy, or cost with prices per unit of each output) draw by draw.
+#'
+#' @param fit A `bayesbem_fit`, or a fit on several outputs.
 #' @param baseline,retrofit [scenario()]s (or simulators) over the same
 #'   periods.
 #' @param ndraws Number of posterior draws (evenly spaced).
@@ -28,12 +33,18 @@
 #'   Details).
 #' @param cache_dir Optional directory for cached runs, see
 #'   [simulate_design()].
+#' @param total On a fit on several outputs, optional weights by output
+#'   (`c(electricity = 0.15, gas = 0.05)`: prices) of the total savings.
 #' @param ... Unused.
 #' @return A `bayesbem_savings`: a list with the draws-by-periods matrices
 #'   `baseline`, `retrofit` and `savings`, `inputs`, `draw`, the scenarios
 #'   and `discrepancy`. `summary(x, level)` gives per period and in total
 #'   the means of baseline and retrofit, the savings' mean, sd and
-#'   interval, and the savings as a share of the baseline.
+#'   interval, and the savings as a share of the baseline. On several
+#'   outputs, a `bayesbem_savings_outputs`: `outputs`, each output's
+#'   `bayesbem_savings`, and `total`, the draws (by periods and their total)
+#'   of the weighted total; its `summary()` stacks the outputs' savings and
+#'   the total's with a first column `output`.
 #' @family prediction
 #' @export
 #' @examples
@@ -45,13 +56,21 @@
 #' plot_savings(s)
 #' }
 savings <- function(fit, baseline, retrofit, ndraws = 40,
-                    discrepancy = c("same", "proportional", "none"), cache_dir = NULL, ...) {
+                    discrepancy = c("same", "proportional", "none"), cache_dir = NULL,
+                    total = NULL, ...) {
   rlang::check_dots_empty()
-  check_fit(fit)
   baseline <- as_scenario(baseline)
   retrofit <- as_scenario(retrofit)
   discrepancy <- match_choice(discrepancy)
   check_same_periods(baseline, retrofit)
+  if (inherits(fit, "bayesbem_outputs_fit")) {
+    return(savings_outputs(fit, baseline, retrofit, ndraws, discrepancy, cache_dir, total))
+  }
+  check_fit(fit)
+  if (!is.null(total)) {
+    abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
+                   "argument")
+  }
   runs <- scenario_runs(fit, list(baseline, retrofit), ndraws, cache_dir)
   base <- runs$simulated[[1]]
   new <- runs$simulated[[2]]
@@ -65,6 +84,63 @@ savings <- function(fit, baseline, retrofit, ndraws = 40,
                  scenarios = list(baseline = baseline, retrofit = retrofit),
                  discrepancy = discrepancy),
             class = "bayesbem_savings")
+}
+
+# savings() of a fit on several outputs: each output's from the same runs
+# (shared_runs(), one run per draw and scenario for every output), and the
+# weighted total of their savings draw by draw.
+savings_outputs <- function(fit, baseline, retrofit, ndraws, discrepancy, cache_dir, total,
+                            call = rlang::caller_env()) {
+  shared <- lapply(list(baseline = baseline, retrofit = retrofit), function(s) {
+    s$simulator <- shared_runs(s$simulator)
+    s
+  })
+  outputs <- names(fit$outputs)
+  per <- lapply(stats::setNames(outputs, outputs), function(k) {
+    one <- lapply(shared, function(s) {
+      s$simulator <- output_simulator(s$simulator, k)
+      s
+    })
+    savings(fit$outputs[[k]], one$baseline, one$retrofit, ndraws = ndraws,
+            discrepancy = discrepancy, cache_dir = cache_dir)
+  })
+  saved <- if (!is.null(total)) {
+    check_total_weights(total, lapply(per, `[[`, "inputs"), call = call)
+    draws <- Reduce(intersect, lapply(per[names(total)], `[[`, "draw"))
+    Reduce(`+`, lapply(names(total), function(k) {
+      total[[k]] * with_total(per[[k]]$savings)[match(draws, per[[k]]$draw), , drop = FALSE]
+    }))
+  }
+  structure(list(outputs = per, total = saved, weights = total,
+                 scenarios = list(baseline = baseline, retrofit = retrofit)),
+            class = "bayesbem_savings_outputs")
+}
+
+#' @export
+summary.bayesbem_savings_outputs <- function(object, level = 0.9, ...) {
+  rlang::check_dots_empty()
+  rows <- lapply(names(object$outputs), function(k) {
+    cbind(output = k, summary(object$outputs[[k]], level = level))
+  })
+  if (!is.null(object$total)) {
+    q <- column_quantiles(object$total, interval_probs(level))
+    rows <- c(rows, list(data.frame(output = "total", period = total_labels(ncol(object$total) - 1L),
+                                    savings = colMeans(object$total),
+                                    sd = apply(object$total, 2, stats::sd), lower = q[, 1],
+                                    upper = q[, 2], row.names = NULL)))
+  }
+  rows <- lapply(rows, function(r) r[c("output", "period", "savings", "sd", "lower", "upper")])
+  do.call(rbind, rows)
+}
+
+#' @export
+print.bayesbem_savings_outputs <- function(x, level = 0.9, ...) {
+  rlang::check_dots_empty()
+  cat_lines("{.cls bayesbem_savings_outputs}: {x$scenarios$retrofit$name} against {x$scenarios$baseline$name}",
+            "* outputs {.val {names(x$outputs)}}{if (!is.null(x$total)) ' and their weighted total' else ''}",
+            "")
+  print_rounded(summary(x, level), 4)
+  invisible(x)
 }
 
 #' @export

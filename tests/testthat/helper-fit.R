@@ -44,3 +44,12 @@ two_output_fit <- local({
     fit
   }
 })
+
+# `sim` as a simulator that counts its runs in `counter$calls`.
+counting_simulator <- function(sim, counter) {
+  counter$calls <- 0
+  simulator(function(params, x) {
+    counter$calls <- counter$calls + 1
+    sim$fun(params, x)
+  }, sim$x, sim$parameters)
+}

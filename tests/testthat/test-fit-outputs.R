@@ -138,13 +138,10 @@ test_that("each output's emulator is checked against its own meter", {
   truth <- bem_monthly(utils::modifyList(base, at), epw_monthly(shipped_epw(2013)))$gas[-8]
   expect_equal(check$table$simulated[1:11], truth, tolerance = 1e-10)
   # or every output at once, one run per draw for all
-  calls <- 0
-  counting <- simulator(function(params, x) {
-    calls <<- calls + 1
-    sim$fun(params, x)
-  }, sim$x, sim$parameters)
+  runs <- new.env()
+  counting <- counting_simulator(sim, runs)
   checks <- validate_emulator(fit, counting, ndraws = 3)
-  expect_equal(calls, 3)
+  expect_equal(runs$calls, 3)
   expect_named(checks, c("electricity", "gas"))
   expect_equal(checks$gas$table, check$table)
   expect_output(print(checks), "gas:")
@@ -154,14 +151,11 @@ test_that("scenarios of a fit on several outputs: one run per draw for all, and 
   skip_on_cran()
   fit <- two_output_fit()
   sim <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
-  calls <- 0
-  counting <- simulator(function(params, x) {
-    calls <<- calls + 1
-    sim$fun(params, x)
-  }, sim$x, sim$parameters)
+  runs <- new.env()
+  counting <- counting_simulator(sim, runs)
   set.seed(2)
   p <- predict_scenario(fit, counting, ndraws = 5, total = c(electricity = 1, gas = 2))
-  expect_equal(calls, 5)
+  expect_equal(runs$calls, 5)
   expect_equal(p$total, p$outputs$electricity$y + 2 * p$outputs$gas$y)
   s <- summary(p)
   expect_equal(unique(s$output), c("electricity", "gas", "total"))
@@ -182,4 +176,25 @@ test_that("a tool that reads one output says how to take it from a fit on severa
   expect_snapshot(discrepancy(fit), error = TRUE)
   expect_error(explain_discrepancy(fit), class = "bayesbem_error_argument")
   expect_error(savings(fit, NULL, NULL), class = "bayesbem_error_argument")
+})
+
+test_that("savings of a fit on several outputs: each output's, and their priced total", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  sim <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  runs <- new.env()
+  counting <- counting_simulator(sim, runs)
+  led <- scenario(counting, set = c(lighting_power_density = 7))
+  s <- savings(fit, scenario(counting), led, ndraws = 4, total = c(electricity = 0.2, gas = 0.05))
+  # one run per draw and scenario serves both outputs
+  expect_equal(runs$calls, 8)
+  expect_equal(s$total, 0.2 * cbind(s$outputs$electricity$savings, rowSums(s$outputs$electricity$savings)) +
+                 0.05 * cbind(s$outputs$gas$savings, rowSums(s$outputs$gas$savings)))
+  # LED lighting saves electricity and costs heating gas
+  expect_gt(mean(rowSums(s$outputs$electricity$savings)), 0)
+  expect_lt(mean(rowSums(s$outputs$gas$savings)), 0)
+  tab <- summary(s)
+  expect_equal(unique(tab$output), c("electricity", "gas", "total"))
+  expect_equal(tab$savings[tab$output == "total" & tab$period == "total"], mean(s$total[, 13]))
+  expect_output(print(s), "weighted total")
 })
