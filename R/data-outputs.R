@@ -15,8 +15,9 @@ outputs_column <- function(field, sim, output, call = rlang::caller_env()) {
     abort_bayesbem("{.arg output} must be a column name, not {describe_value(output)}.",
                    "argument", call = call)
   }
-  for (side in c("field", "sim")) {
-    d <- list(field = field, sim = sim)[[side]]
+  tables <- list(field = field, sim = sim)
+  for (side in names(tables)) {
+    d <- tables[[side]]
     if (!output %in% names(d)) {
       abort_bayesbem(c("{.arg {side}} has no column {.field {output}} naming each row's output.",
                        i = "Its columns are {.field {names(d)}}."),

@@ -59,14 +59,14 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
 
 # R-hat and ESS of the variables a fit samples; for a fit on several
 # outputs, the shared parameters once and each output's own under its name
-# (prefix_output()).
+# (output_variables()).
 convergence_rows <- function(fit) {
   if (inherits(fit, "bayesbem_outputs_fit")) {
-    shared <- fit$data$names$t
     rows <- lapply(names(fit$outputs), function(k) {
       s <- convergence_rows(fit$outputs[[k]])
-      if (k != names(fit$outputs)[1]) s <- s[!s$variable %in% shared, , drop = FALSE]
-      s$variable <- prefix_output(s$variable, k, shared)
+      v <- output_variables(s$variable, k, names(fit$outputs), fit$data$names$t)
+      s <- s[s$variable %in% names(v), , drop = FALSE]
+      s$variable <- unname(v[s$variable])
       s
     })
     return(do.call(rbind, rows))

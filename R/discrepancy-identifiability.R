@@ -66,11 +66,18 @@ identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
     return(identifiability_outputs(fit, ndraws, refit))
   }
   check_fit(fit)
+  identifiability_fit(fit, ndraws, refit)
+}
+
+# identifiability() of a one-output fit; with `information`, also each
+# parameter's Fisher information from the fit's data (median over the
+# draws; discrepancy_projection()) in `attr(, "information")`.
+identifiability_fit <- function(fit, ndraws, refit, information = FALSE) {
   data <- fit$data
   g <- gp_geometry(data, scale_newdata(data, field_inputs(data)[data$names$x]),
                    fit_structure(fit), fit$emulator$basis)
   draws <- draw_parameters(fit, ndraws)
-  per_draw <- lapply(draws, function(par) discrepancy_projection(g, par, data))
+  per_draw <- lapply(draws, function(par) discrepancy_projection(g, par, data, information))
   shift <- do.call(rbind, lapply(per_draw, `[[`, "shift"))
   alignment <- do.call(rbind, lapply(per_draw, `[[`, "alignment"))
   # the shift in posterior sds of tf on the scale the emulator works on;
@@ -90,7 +97,10 @@ identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
   confounded <- abs(out$shift) > 2 | (if (refit) abs(out$moved) > 2 else FALSE)
   out$verdict <- identifiability_verdict(out$sd_ratio, ifelse(confounded, "the discrepancy", ""))
   structure(out, class = c("bayesbem_identifiability", "data.frame"),
-            summary = identifiability_summary(out))
+            summary = identifiability_summary(out),
+            information = if (information) {
+              apply(do.call(rbind, lapply(per_draw, `[[`, "information")), 2, stats::median)
+            })
 }
 
 # "confounded with <what>" where `confounded` names what, else the band of
@@ -104,9 +114,9 @@ identifiability_verdict <- function(sd_ratio, confounded) {
 # identifiability() of a fit on several outputs (see its Details).
 identifiability_outputs <- function(fit, ndraws, refit) {
   outputs <- names(fit$outputs)
-  per <- lapply(fit$outputs, identifiability, ndraws = ndraws)
-  information <- vapply(fit$outputs, output_information, numeric(fit$data$q), ndraws = ndraws)
-  information <- matrix(information, ncol = length(outputs))
+  per <- lapply(fit$outputs, identifiability_fit, ndraws = ndraws, refit = FALSE,
+                information = TRUE)
+  information <- matrix(unlist(lapply(per, attr, "information")), ncol = length(outputs))
   out <- per[[1]][c("parameter", "prior_sd", "posterior_sd", "sd_ratio")]
   for (k in seq_along(outputs)) {
     out[[paste0("informed_by_", outputs[k])]] <- information[, k] / rowSums(information)
@@ -134,22 +144,6 @@ identifiability_outputs <- function(fit, ndraws, refit) {
                                     paste(informs, collapse = "; "))))
 }
 
-# What an output's field data say about each calibration parameter: the
-# Fisher information s' Sigma^-1 s about tf (scaled), s the emulator
-# mean's sensitivity to the parameter at the field rows (runs_sensitivity())
-# and Sigma the field outputs' covariance given the runs (runs_field():
-# emulator, discrepancy and noise), in the output's standardised units;
-# the median over `ndraws` draws.
-output_information <- function(fit, ndraws) {
-  data <- fit$data
-  g <- gp_geometry(data, structure = fit_structure(fit), basis = fit$emulator$basis)
-  per_draw <- vapply(draw_parameters(fit, ndraws), function(par) {
-    white <- backsolve(chol(runs_field(g, par)$cov), runs_sensitivity(g, par), transpose = TRUE)
-    colSums(white^2)
-  }, numeric(data$q))
-  apply(matrix(per_draw, nrow = data$q), 1, stats::median)
-}
-
 # How far the discrepancy moved each parameter: the posterior mean with it
 # minus the mean of a refit without it (the discrepancy's precision held at
 # about 1e6, i.e. a standard deviation of 0.001 standardised units), in
@@ -164,16 +158,23 @@ moved_by_discrepancy <- function(fit, posterior_sd) {
 }
 
 # For one draw: the discrepancy's projection on the simulator's sensitivity
-# to each parameter at the field rows (runs_sensitivity(); in scaled
-# parameter units) and its correlation with it.
-discrepancy_projection <- function(g, par, data) {
+# s to each parameter at the field rows (runs_sensitivity(); in scaled
+# parameter units) and its correlation with it; with `information`, what
+# the field data say about each parameter, the Fisher information
+# s' Sigma^-1 s about tf, Sigma the field outputs' covariance given the
+# runs (runs_field(): emulator, discrepancy and noise), in the output's
+# standardised units.
+discrepancy_projection <- function(g, par, data, information = FALSE) {
   n <- data$n
   cond <- koh_conditional(g, par)
   delta <- cond$mean[n + seq_len(n)]
   if (ncol(g$h) > 0L) delta <- delta + drop(g$h %*% par$gamma)
   s <- runs_sensitivity(g, par)
   list(shift = drop(crossprod(s, delta)) / colSums(s^2),
-       alignment = abs(drop(stats::cor(s, delta))))
+       alignment = abs(drop(stats::cor(s, delta))),
+       information = if (information) {
+         colSums(backsolve(chol(runs_field(g, par)$cov), s, transpose = TRUE)^2)
+       })
 }
 
 # The sd of a prior on the scaled [0, 1] scale: uniform, or a normal (mean

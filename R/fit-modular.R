@@ -127,14 +127,12 @@ stage2_stan_data <- function(data, priors, emulator) {
   outputs <- output_data(data)
   emulators <- output_emulators(data, emulator)
   first <- outputs[[1]]
-  field_rows <- function(d) seq_len(d$n)
   prior <- koh_prior_data(first, priors)
-  terms <- lapply(outputs, function(d) koh_prior_data(d, priors)$h)
-  prior$h <- block_diagonal(terms)
+  prior$h <- block_diagonal(lapply(outputs, discrepancy_design))
   prior$n_h <- ncol(prior$h)
   c(list(n = sum(vapply(outputs, `[[`, integer(1), "n")), mt = first$grid$mt, p = first$p,
          q = first$q, y = unlist(lapply(outputs, `[[`, "y")),
-         xf = do.call(rbind, lapply(outputs, function(d) d$grid$x[field_rows(d), , drop = FALSE])),
+         xf = do.call(rbind, lapply(outputs, function(d) d$grid$x[seq_len(d$n), , drop = FALSE])),
          tc = first$grid$design, K = length(outputs),
          output = as.array(rep(seq_along(outputs), vapply(outputs, `[[`, integer(1), "n"))),
          lapack = as.integer(use_lapack())),

@@ -28,22 +28,18 @@ output_stanfit <- function(sf, elements, scalars) {
   old <- new <- character()
   dims <- list()
   for (par in sf@model_pars) {
-    size <- prod(sf@par_dims[[par]])
-    if (length(sf@par_dims[[par]]) == 0L) {
+    dim <- sf@par_dims[[par]]
+    if (length(dim) == 0L) {
       old <- c(old, par)
       new <- c(new, par)
       dims[[par]] <- integer(0)
       next
     }
-    keep <- elements[[par]] %||% seq_len(size)
+    keep <- elements[[par]] %||% seq_len(prod(dim))
+    scalar <- par %in% scalars
     old <- c(old, sprintf("%s[%d]", par, keep))
-    if (par %in% scalars) {
-      new <- c(new, par)
-      dims[par] <- list(integer(0))
-    } else {
-      new <- c(new, sprintf("%s[%d]", par, seq_along(keep)))
-      dims[[par]] <- length(keep)
-    }
+    new <- c(new, if (scalar) par else sprintf("%s[%d]", par, seq_along(keep)))
+    dims[[par]] <- if (scalar) integer(0) else length(keep)
   }
   sf@sim$samples <- lapply(sf@sim$samples, function(chain) {
     kept <- stats::setNames(chain[old], new)
@@ -178,10 +174,13 @@ add_output_terms <- function(data, covariates, call = rlang::caller_env()) {
   data
 }
 
-# The variables of one output in a table of several: its own prefixed by
-# the output's name ("gas:lambda_e"), the shared calibration parameters not.
-prefix_output <- function(variables, output, shared) {
-  ifelse(variables %in% shared, variables, paste0(output, ":", variables))
+# Which of output k's variables a table of several outputs shows, and under
+# which names (the result's values; its names, the variables): the
+# `shared` ones (calibration parameters) once, from the first output, each
+# output's own prefixed by its name ("gas:lambda_e").
+output_variables <- function(variables, k, outputs, shared) {
+  keep <- if (k == outputs[1]) variables else setdiff(variables, shared)
+  stats::setNames(ifelse(keep %in% shared, keep, paste0(k, ":", keep)), keep)
 }
 
 #' @rdname output_fit
@@ -190,13 +189,11 @@ prefix_output <- function(variables, output, shared) {
 #' @exportS3Method posterior::as_draws_array
 as_draws_array.bayesbem_outputs_fit <- function(x, ...) {
   rlang::check_dots_empty()
-  shared <- x$data$names$t
   draws <- lapply(names(x$outputs), function(k) {
     d <- as_draws_array.bayesbem_fit(x$outputs[[k]])
-    keep <- if (k == names(x$outputs)[1]) posterior::variables(d) else
-      setdiff(posterior::variables(d), c(shared, "lp__"))
-    d <- posterior::subset_draws(d, variable = keep)
-    posterior::variables(d) <- prefix_output(posterior::variables(d), k, c(shared, "lp__"))
+    v <- output_variables(posterior::variables(d), k, names(x$outputs), c(x$data$names$t, "lp__"))
+    d <- posterior::subset_draws(d, variable = names(v))
+    posterior::variables(d) <- unname(v)
     d
   })
   do.call(posterior::bind_draws, c(draws, along = "variable"))

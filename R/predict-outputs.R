@@ -38,7 +38,7 @@ predict.bayesbem_outputs_fit <- function(object, newdata = NULL, type = c("y", "
   })
   if (!is.null(total)) {
     check_total_weights(total, inputs)
-    draws$total <- Reduce(`+`, Map(`*`, draws[names(total)], total))
+    draws$total <- weighted_total(total, draws)
     inputs$total <- inputs[[names(total)[1]]]
   }
   if (!summary) {
@@ -99,4 +99,16 @@ check_total_weights <- function(total, inputs, call = rlang::caller_env()) {
                      i = "Give {.arg newdata} without an output column: one set of inputs for all outputs."),
                    "argument", call = call)
   }
+}
+
+# The weighted total of outputs' draws-by-columns matrices `parts` (by
+# output), draw by draw, `total` the weights by output. When the outputs'
+# rows may be other draws, `draw` gives each output's draws' indices, and
+# the total is over the draws all of them have, in the first's order.
+weighted_total <- function(total, parts, draw = NULL) {
+  shared <- if (!is.null(draw)) Reduce(intersect, draw)
+  Reduce(`+`, lapply(names(total), function(k) {
+    rows <- if (is.null(shared)) seq_len(nrow(parts[[k]])) else match(shared, draw[[k]])
+    total[[k]] * parts[[k]][rows, , drop = FALSE]
+  }))
 }

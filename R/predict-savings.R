@@ -106,10 +106,8 @@ savings_outputs <- function(fit, baseline, retrofit, ndraws, discrepancy, cache_
   })
   saved <- if (!is.null(total)) {
     check_total_weights(total, lapply(per, `[[`, "inputs"), call = call)
-    draws <- Reduce(intersect, lapply(per[names(total)], `[[`, "draw"))
-    Reduce(`+`, lapply(names(total), function(k) {
-      total[[k]] * with_total(per[[k]]$savings)[match(draws, per[[k]]$draw), , drop = FALSE]
-    }))
+    weighted_total(total, lapply(per, function(p) with_total(p$savings)),
+                   lapply(per[names(total)], `[[`, "draw"))
   }
   structure(list(outputs = per, total = saved, weights = total,
                  scenarios = list(baseline = baseline, retrofit = retrofit)),

@@ -223,14 +223,12 @@ predict_scenario_outputs <- function(fit, scenario, ndraws, discrepancy, noise, 
     predict_scenario(fit$outputs[[k]], one, ndraws = ndraws, discrepancy = discrepancy,
                      noise = noise, covariates = covariates[[k]], cache_dir = cache_dir)
   })
-  draws <- Reduce(intersect, lapply(preds, `[[`, "draw"))
+  draw <- lapply(preds, `[[`, "draw")
   y_total <- if (!is.null(total)) {
     check_total_weights(total, lapply(preds, `[[`, "inputs"), call = call)
-    Reduce(`+`, lapply(names(total), function(k) {
-      total[[k]] * preds[[k]]$y[match(draws, preds[[k]]$draw), , drop = FALSE]
-    }))
+    weighted_total(total, lapply(preds, `[[`, "y"), draw)
   }
-  structure(list(outputs = preds, total = y_total, weights = total, draw = draws,
+  structure(list(outputs = preds, total = y_total, weights = total, draw = Reduce(intersect, draw),
                  scenario = scenario),
             class = "bayesbem_scenario_predictions")
 }

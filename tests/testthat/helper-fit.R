@@ -29,8 +29,7 @@ two_output_fit <- local({
   fit <- NULL
   function() {
     if (is.null(fit)) {
-      epw <- system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")
-      sim <- bem_simulator(epw, output = c("electricity", "gas"))
+      sim <- two_output_simulator()
       pars <- bem_parameters()
       pars <- pars[pars$parameter %in% c("equipment_power_density", "infiltration_per_exterior_area"), ]
       runs <- simulate_design(sim, design_lhs(pars, 12, seed = 1))
@@ -45,8 +44,13 @@ two_output_fit <- local({
   }
 })
 
+# The embedded model's electricity and gas over the 12 months of 2013.
+two_output_simulator <- function() {
+  bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+}
+
 # `sim` as a simulator that counts its runs in `counter$calls`.
-counting_simulator <- function(sim, counter) {
+counting_simulator <- function(counter, sim = two_output_simulator()) {
   counter$calls <- 0
   simulator(function(params, x) {
     counter$calls <- counter$calls + 1

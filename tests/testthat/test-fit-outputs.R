@@ -126,7 +126,7 @@ test_that("a fit on two outputs: shared draws, each output a fit of its own", {
 test_that("each output's emulator is checked against its own meter", {
   skip_on_cran()
   fit <- two_output_fit()
-  sim <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  sim <- two_output_simulator()
   gas_fit <- output_fit(fit, "gas")
   check <- validate_emulator(gas_fit, output_simulator(sim, "gas"), ndraws = 3)
   # gas's 11 field periods (no August bill), at each draw, against gas runs
@@ -139,7 +139,7 @@ test_that("each output's emulator is checked against its own meter", {
   expect_equal(check$table$simulated[1:11], truth, tolerance = 1e-10)
   # or every output at once, one run per draw for all
   runs <- new.env()
-  counting <- counting_simulator(sim, runs)
+  counting <- counting_simulator(runs, sim)
   checks <- validate_emulator(fit, counting, ndraws = 3)
   expect_equal(runs$calls, 3)
   expect_named(checks, c("electricity", "gas"))
@@ -150,9 +150,9 @@ test_that("each output's emulator is checked against its own meter", {
 test_that("scenarios of a fit on several outputs: one run per draw for all, and their total", {
   skip_on_cran()
   fit <- two_output_fit()
-  sim <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  sim <- two_output_simulator()
   runs <- new.env()
-  counting <- counting_simulator(sim, runs)
+  counting <- counting_simulator(runs, sim)
   set.seed(2)
   p <- predict_scenario(fit, counting, ndraws = 5, total = c(electricity = 1, gas = 2))
   expect_equal(runs$calls, 5)
@@ -181,9 +181,8 @@ test_that("a tool that reads one output says how to take it from a fit on severa
 test_that("savings of a fit on several outputs: each output's, and their priced total", {
   skip_on_cran()
   fit <- two_output_fit()
-  sim <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
   runs <- new.env()
-  counting <- counting_simulator(sim, runs)
+  counting <- counting_simulator(runs)
   led <- scenario(counting, set = c(lighting_power_density = 7))
   s <- savings(fit, scenario(counting), led, ndraws = 4, total = c(electricity = 0.2, gas = 0.05))
   # one run per draw and scenario serves both outputs

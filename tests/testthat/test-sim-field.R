@@ -34,7 +34,7 @@ test_that("bad effects and covariates get classed errors", {
 })
 
 test_that("simulate_field() of several outputs: the long table, each with its noise and effect", {
-  sim <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  sim <- two_output_simulator()
   truth <- list(equipment_power_density = 15)
   clean <- simulate_field(sim, truth)
   expect_named(clean, c("output", "y", "temp", "rh", "solar"))

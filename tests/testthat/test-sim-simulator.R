@@ -32,7 +32,7 @@ test_that("bad simulators and parameter tables get classed errors", {
 })
 
 test_that("the embedded model gives both meters from one run", {
-  both <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  both <- two_output_simulator()
   expect_match(both$name, "electricity and gas")
   p <- stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
   w <- epw_monthly(shipped_epw(2013))
@@ -44,7 +44,7 @@ test_that("the embedded model gives both meters from one run", {
 })
 
 test_that("output_simulator() gives one output of a simulator of several", {
-  both <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  both <- two_output_simulator()
   gas <- output_simulator(both, "gas")
   design <- data.frame(infiltration_per_exterior_area = c(0.0005, 0.001))
   runs <- simulate_design(both, design)
