@@ -32,7 +32,6 @@
 #' @importFrom rstan sampling
 #' @importFrom RcppParallel RcppParallelLibs
 #' @importFrom rlang %||% .data
-#' @importFrom lifecycle deprecated
 #' @importFrom rstantools rstan_config
 #' @importFrom parallel detectCores
 "_PACKAGE"

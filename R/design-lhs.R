@@ -6,7 +6,6 @@
 #'
 #' @param parameters A parameter table (see [bem_parameters()]) with the
 #'   parameters to vary, e.g. the top few of [screen_morris()].
-#' @param params Deprecated; use `parameters`.
 #' @param n Number of runs.
 #' @param seed Random seed of the design.
 #' @return A data frame with `n` rows and one column per parameter.
@@ -14,11 +13,7 @@
 #' @export
 #' @examples
 #' design_lhs(bem_parameters()[c(3, 12, 14), ], n = 10, seed = 1)
-design_lhs <- function(parameters, n, seed = NULL, params = deprecated()) {
-  if (lifecycle::is_present(params)) {
-    lifecycle::deprecate_warn("0.1.0", "design_lhs(params)", "design_lhs(parameters)")
-    parameters <- params
-  }
+design_lhs <- function(parameters, n, seed = NULL) {
   params <- check_parameter_table(parameters)
   check_run_count(n)
   design <- maximin_box(n, params$min, params$max, seed)

@@ -11,16 +11,15 @@
 #' @param simulator A `bayesbem_simulator`.
 #' @param parameters The parameter table to screen (default: all of the
 #'   simulator's parameters).
-#' @param params Deprecated; use `parameters`.
 #' @param r Number of trajectories (the design runs `(k + 1) * r`
 #'   simulations for `k` parameters).
 #' @param levels Number of grid levels (even; the jump is `levels / 2`).
 #' @param seed Random seed of the design.
-#' @param output `"sum"`: effects on the output summed over all periods;
-#'   `"period"`: effects on each period's output.
+#' @param effects_on `"total"`: effects on the output summed over all
+#'   periods; `"period"`: effects on each period's output.
 #' @return A data frame of class `bayesbem_morris`, ranked by `mu_star`:
 #'   `parameter`, `mu_star`, `mu`, `sigma`, `rank` (and `period` for
-#'   `output = "period"`, where the rank is that of the mean `mu_star` over
+#'   `effects_on = "period"`, where the rank is that of the mean `mu_star` over
 #'   periods).
 #' @family design
 #' @export
@@ -34,13 +33,9 @@
 #' }
 #' }
 screen_morris <- function(simulator, parameters = simulator$parameters, r = 10, levels = 6,
-                          seed = NULL, output = c("sum", "period"), params = deprecated()) {
-  if (lifecycle::is_present(params)) {
-    lifecycle::deprecate_warn("0.1.0", "screen_morris(params)", "screen_morris(parameters)")
-    parameters <- params
-  }
+                          seed = NULL, effects_on = c("total", "period")) {
   rlang::check_installed("sensitivity", reason = "for Morris screening.")
-  output <- match_choice(output)
+  effects_on <- match_choice(effects_on)
   params <- check_parameter_table(parameters)
   check_count(r)
   check_count(levels)
@@ -60,7 +55,7 @@ screen_morris <- function(simulator, parameters = simulator$parameters, r = 10, 
   }
   runs <- matrix(table$eta, nrow = nrow(x), byrow = TRUE)
   runs <- runs / mean(runs)
-  if (output == "sum") {
+  if (effects_on == "total") {
     effects <- morris_effects(design, rowSums(runs) / ncol(runs))
     out <- data.frame(parameter = params$parameter, effects)
   } else {
@@ -91,50 +86,4 @@ print.bayesbem_morris <- function(x, digits = 3, ...) {
   cat("Morris screening (effects relative to the mean output, over each parameter's range)\n")
   print(as.data.frame(unclass(x)), digits = digits, row.names = FALSE)
   invisible(x)
-}
-
-#' Plot Morris screening results
-#'
-#' The paper's Fig 3: `mu*` against `sigma` for each parameter. Parameters
-#' far to the right matter; high `sigma` means non-linear effects or
-#' interactions.
-#'
-#' @param x A `bayesbem_morris` result of [screen_morris()] with
-#'   `output = "sum"`.
-#' @return `plot_morris()` (and `plot(x)`): a ggplot. `plot_morris_data()`: a data frame
-#'   with `parameter`, `mu_star`, `sigma` and `rank`.
-#' @family design
-#' @family plots
-#' @export
-#' @examples
-#' \donttest{
-#' if (requireNamespace("sensitivity", quietly = TRUE)) {
-#'   sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
-#'   plot_morris(screen_morris(sim, r = 5, seed = 1))
-#' }
-#' }
-plot_morris <- function(x) {
-  d <- plot_morris_data(x)
-  ggplot2::ggplot(d, ggplot2::aes(.data$mu_star, .data$sigma, label = .data$parameter)) +
-    ggplot2::geom_point(colour = "#1b6ca8") +
-    ggplot2::geom_text(hjust = -0.08, size = 3, check_overlap = TRUE) +
-    ggplot2::scale_x_continuous(expand = ggplot2::expansion(mult = c(0.05, 0.45))) +
-    ggplot2::labs(x = "mu* (mean absolute elementary effect)", y = "sigma") +
-    ggplot2::theme_bw()
-}
-
-#' @export
-plot.bayesbem_morris <- function(x, ...) {
-  rlang::check_dots_empty()
-  plot_morris(x)
-}
-
-#' @rdname plot_morris
-#' @export
-plot_morris_data <- function(x) {
-  if (!inherits(x, "bayesbem_morris") || "period" %in% names(x)) {
-    abort_bayesbem("{.arg x} must be a result of {.code screen_morris(output = \"sum\")}.",
-                   "argument")
-  }
-  as.data.frame(unclass(x))[c("parameter", "mu_star", "sigma", "rank")]
 }

@@ -59,7 +59,7 @@
 #' fit <- refine_emulator(fit, sim, n = 6, rounds = 2, ndraws = 10, seed = 1)
 #' fit$refinement
 #' }
-refine_emulator <- function(fit, simulator, n = 10, rounds = 3, ndraws = 20, level = 0.9,
+refine_emulator <- function(fit, simulator, n = 10, rounds = 3, ndraws = 40, level = 0.9,
                             seed = NULL, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
   check_fit(fit)

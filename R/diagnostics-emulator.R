@@ -73,14 +73,12 @@
 #' @param simulator A `bayesbem_simulator` whose parameters include the
 #'   fit's calibration parameters (others are held at their initial values);
 #'   on several outputs, one that gives them all.
-#' @param ndraws Number of posterior draws (evenly spaced) to run the
-#'   simulator at.
-#' @param level Level of the emulator's intervals.
-#' @param cache_dir Optional directory for cached runs, see
-#'   [simulate_design()].
+#' @template args-ndraws-runs
+#' @param level Probability of the emulator's intervals (`validate_emulator()`),
+#'   or of the central interval `posterior_simulate()` reports.
+#' @template args-cache-dir
 #' @param summary For `posterior_simulate()`: a data frame of summaries
 #'   (`TRUE`) or a draws-by-periods matrix.
-#' @param probs Quantiles reported when `summary = TRUE`.
 #' @param ... Unused.
 #' @return `validate_emulator()`: an object of class `bayesbem_emulator_check`, a
 #'   list with `table` (one row per draw and period: `draw`, `period`, the
@@ -106,7 +104,7 @@
 #' check
 #' posterior_simulate(seb_fit, sim, ndraws = 5)
 #' }
-validate_emulator <- function(fit, simulator, ndraws = 20, level = 0.9, cache_dir = NULL, ...) {
+validate_emulator <- function(fit, simulator, ndraws = 40, level = 0.9, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
   check_probability(level)
   if (inherits(fit, "bayesbem_outputs_fit")) {
@@ -195,8 +193,8 @@ emulator_shift <- function(g, par, s) {
 
 #' @rdname validate_emulator
 #' @export
-posterior_simulate <- function(fit, simulator, ndraws = 20, summary = TRUE,
-                               probs = c(0.05, 0.5, 0.95), cache_dir = NULL, ...) {
+posterior_simulate <- function(fit, simulator, ndraws = 40, summary = TRUE,
+                               level = 0.9, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
   check_bool(summary)
   runs <- posterior_runs(fit, simulator, ndraws, cache_dir)
@@ -204,7 +202,7 @@ posterior_simulate <- function(fit, simulator, ndraws = 20, summary = TRUE,
   if (!summary) {
     return(eta)
   }
-  summarise_columns(eta, field_inputs(fit$data)[fit$data$names$x], probs)
+  summarise_columns(eta, field_inputs(fit$data)[fit$data$names$x], level)
 }
 
 # The simulator run at evenly spaced posterior draws: the draws (Stan

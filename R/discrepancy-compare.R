@@ -11,7 +11,7 @@
 #' different simulation tables can be compared.
 #'
 #' @param x A `bayesbem_fit`.
-#' @param ndraws Number of posterior draws (evenly spaced); all by default.
+#' @template args-ndraws
 #' @param ... Unused.
 #' @return A `psis_loo` object from the loo package.
 #' @family discrepancy
@@ -49,7 +49,7 @@ loo_log_lik <- function(fit, ndraws = NULL) {
 #'   points are unreliable (see [loo::pareto-k-diagnostic]) and the ELPD of
 #'   those points is approximate;
 #' * `metrics`: CVRMSE and NMBE (ASHRAE Guideline 14) of both fits on the
-#'   field data, and on `holdout` when given;
+#'   field data, and on the held-out `newdata` when given;
 #' * `discrepancy`: the posterior mean of the discrepancy's standard
 #'   deviation `1 / sqrt(lambda_delta)` (output units) in each fit, and its
 #'   shrinkage `1 - b / a`;
@@ -58,13 +58,12 @@ loo_log_lik <- function(fit, ndraws = NULL) {
 #'   truth in both fits.
 #'
 #' @param a,b Two `bayesbem_fit`s of the same field outputs.
-#' @param holdout Optional held-out data: a data frame with the field
-#'   output (the fits' output column name), the observable inputs, and any
-#'   covariates of the fits' discrepancy terms.
+#' @param newdata,obs Optional held-out data: a data frame with the
+#'   observable inputs and any covariates of the fits' discrepancy terms, and
+#'   the measured output of each of its rows.
 #' @param truth Optional named list or vector of the true calibration
 #'   parameters, physical units.
-#' @param ndraws Number of posterior draws for the leave-one-out and
-#'   prediction computations; all by default.
+#' @template args-ndraws
 #' @return An object of class `bayesbem_comparison`: a list with `elpd` (a data
 #'   frame with `elpd_a`, `elpd_b`, `diff`, `se`, `pareto_k_max`), `metrics`, `discrepancy`,
 #'   `bias` and the one-line `verdict`.
@@ -76,13 +75,13 @@ loo_log_lik <- function(fit, ndraws = NULL) {
 #' ext <- extend(seb_fit, with = "working_days", covariates = working, refresh = 0)
 #' compare_fits(seb_fit, ext, ndraws = 200)
 #' }
-compare_fits <- function(a, b, holdout = NULL, truth = NULL, ndraws = NULL) {
+compare_fits <- function(a, b, newdata = NULL, obs = NULL, truth = NULL, ndraws = NULL) {
   check_fit(a)
   check_fit(b)
   y_a <- a$data$field[[a$data$names$y]]
   if (!identical(y_a, b$data$field[[b$data$names$y]])) {
     abort_bayesbem(c("{.arg a} and {.arg b} must be fits of the same field outputs.",
-                     i = "Leave-one-out comparisons need the same data; compare other fits on {.arg holdout} data with {.fn calibration_metrics}."),
+                     i = "Leave-one-out comparisons need the same data; compare other fits on held-out data with {.fn calibration_metrics}."),
                    "argument")
   }
   # loo's Pareto-k warnings are reported as pareto_k_max instead
@@ -98,7 +97,7 @@ compare_fits <- function(a, b, holdout = NULL, truth = NULL, ndraws = NULL) {
   }, numeric(1))
   out <- list(
     elpd = elpd,
-    metrics = comparison_metrics(a, b, holdout, ndraws),
+    metrics = comparison_metrics(a, b, newdata, obs, ndraws),
     discrepancy = data.frame(delta_sd_a = delta_sd[1], delta_sd_b = delta_sd[2],
                              shrinkage = 1 - delta_sd[2] / delta_sd[1]),
     bias = if (!is.null(truth)) comparison_bias(a, b, truth)
@@ -114,9 +113,10 @@ compare_fits <- function(a, b, holdout = NULL, truth = NULL, ndraws = NULL) {
   structure(out, class = "bayesbem_comparison")
 }
 
-comparison_metrics <- function(a, b, holdout, ndraws, call = rlang::caller_env()) {
-  if (!is.null(holdout)) check_holdout(holdout, a$data, call = call)
-  rows <- lapply(list(a = a, b = b), holdout_metrics, holdout = holdout, ndraws = ndraws)
+comparison_metrics <- function(a, b, newdata, obs, ndraws, call = rlang::caller_env()) {
+  check_held_out(newdata, obs, a$data, call = call)
+  rows <- lapply(list(a = a, b = b), held_out_metrics, newdata = newdata, obs = obs,
+                 ndraws = ndraws)
   do.call(rbind, Map(function(name, m) data.frame(fit = name, m), names(rows), rows))
 }
 

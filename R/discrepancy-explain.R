@@ -75,13 +75,13 @@
 #' @param fit A `bayesbem_fit`.
 #' @param covariates Optional data frame with one row per field row (in the
 #'   field data's order) of further candidates.
-#' @param level Probability of the central interval of each share.
+#' @template args-level
 #' @param alpha Family-wise error rate of the "explains" decisions.
 #' @param n_null Number of simulated null residuals: at least 100 with
 #'   regions, 20 without, at `alpha = 0.05` (an error says so), since no
 #'   adjusted p-value can be smaller than `1 / (n_null + 1)` divided by the
 #'   family's share of `alpha`.
-#' @param ndraws Number of posterior draws (evenly spaced); all by default.
+#' @template args-ndraws
 #' @param regions Also try steps in each input and each candidate's effect
 #'   in part of another input's range (see Details); [extend()] takes the
 #'   names it gives. With regions, false alarms stay near `alpha`

@@ -28,7 +28,7 @@
 #'   default: the field data the model was calibrated on.
 #' @param level Probability of the pointwise intervals and of the
 #'   simultaneous band.
-#' @param ndraws Number of posterior draws to use (all by default).
+#' @template args-ndraws
 #' @return A data frame of class `bayesbem_discrepancy`, one row per point: the
 #'   inputs, `point`, `obs`, and for `delta` and `residual` the posterior
 #'   `mean`, pointwise `lower` and `upper` (physical units) and `share`
@@ -51,7 +51,7 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
   set <- prediction_set(fit, newdata, obs)
   draws <- predict_draws(fit, set$x, ndraws = ndraws)
   residual <- -sweep(draws$eta, 2, set$obs, "-")
-  probs <- c((1 - level) / 2, (1 + level) / 2)
+  probs <- interval_probs(level)
   delta_int <- column_quantiles(draws$delta, probs)
   residual_int <- column_quantiles(residual, probs)
   band <- simultaneous_band(residual, level)
@@ -111,65 +111,4 @@ print.bayesbem_discrepancy <- function(x, digits = 3, ...) {
   cat(attr(x, "verdict"), "\n\n")
   print_rounded(as.data.frame(unclass(x)), digits)
   invisible(x)
-}
-
-#' Plot the posterior discrepancy
-#'
-#' The posterior mean and simultaneous band of what the simulator misses,
-#' the residual `y - eta(x, tf)` (discrepancy plus noise, as a share of the
-#' measured output, percent, see [discrepancy()]) at every point, along each
-#' observable input and along the points' order (time, for field data in
-#' time order). Flagged points, where the band excludes zero, are drawn in
-#' red.
-#'
-#' @param x A `bayesbem_discrepancy` from [discrepancy()].
-#' @return `plot_discrepancy()` (and `plot(x)`): a ggplot. `plot_discrepancy_data()`: a data
-#'   frame with `along` (the input, or `"point order"`), `position`, `point`,
-#'   `mean`, `lower`, `upper` (the band; percent of the output) and `flag`.
-#' @family discrepancy
-#' @family plots
-#' @export
-#' @examples
-#' d <- discrepancy(seb_fit, ndraws = 100)
-#' plot_discrepancy(d)
-#' head(plot_discrepancy_data(d))
-plot_discrepancy <- function(x) {
-  d <- plot_discrepancy_data(x)
-  ggplot2::ggplot(d, ggplot2::aes(.data$position, .data$mean, colour = .data$flag)) +
-    ggplot2::geom_hline(yintercept = 0, colour = "grey50") +
-    ggplot2::geom_pointrange(ggplot2::aes(ymin = .data$lower, ymax = .data$upper)) +
-    ggplot2::facet_wrap(ggplot2::vars(.data$along), scales = "free_x") +
-    ggplot2::scale_colour_manual(values = c(`FALSE` = "#1b6ca8", `TRUE` = "#c0392b"),
-                                 labels = c(`FALSE` = "interval contains 0",
-                                            `TRUE` = "interval excludes 0")) +
-    ggplot2::labs(x = NULL, y = "simulator residual (y - eta) / y (%)", colour = NULL,
-                  caption = sprintf("posterior mean and %g%% interval", 100 * attr(x, "level"))) +
-    ggplot2::theme_bw() +
-    ggplot2::theme(legend.position = "bottom")
-}
-
-#' @export
-plot.bayesbem_discrepancy <- function(x, ...) {
-  rlang::check_dots_empty()
-  plot_discrepancy(x)
-}
-
-#' @rdname plot_discrepancy
-#' @export
-plot_discrepancy_data <- function(x) {
-  if (!inherits(x, "bayesbem_discrepancy")) {
-    abort_bayesbem("{.arg x} must be made by {.fn discrepancy}.", "argument")
-  }
-  x_names <- setdiff(names(x), c("point", "obs", "flag",
-                                 grep("^(delta|residual|band)_", names(x), value = TRUE)))
-  share <- function(v) 100 * v / share_scale(x$obs)
-  along <- c(x_names, "point order")
-  rows <- lapply(along, function(a) {
-    data.frame(along = a, position = if (a == "point order") x$point else x[[a]],
-               point = x$point, mean = share(x$residual_mean), lower = share(x$band_lower),
-               upper = share(x$band_upper), flag = x$flag)
-  })
-  out <- do.call(rbind, rows)
-  out$along <- factor(out$along, levels = along)
-  out
 }

@@ -49,25 +49,38 @@ check_metric_input <- function(obs, pred, p, call = rlang::caller_env()) {
   }
 }
 
-# calibration_metrics() on the training data and, unless NULL, on `holdout`
-# (a data frame with the output column and the observable inputs).
-holdout_metrics <- function(fit, holdout, ndraws) {
-  obs <- if (!is.null(holdout)) holdout[[fit$data$names$y]]
-  m <- calibration_metrics(fit, newdata = holdout, obs = obs, ndraws = ndraws)
+# The calibrated prediction's calibration_metrics() on the training data
+# and, unless NULL, on the held-out `newdata` and `obs`.
+held_out_metrics <- function(fit, newdata, obs, ndraws) {
+  m <- calibration_metrics(fit, newdata = newdata, obs = obs, ndraws = ndraws)
   m <- m[m$prediction == "calibrated", setdiff(names(m), c("prediction", "route"))]
   structure(m, row.names = seq_len(nrow(m)))
 }
 
-# Held-out data need the output column and the observable inputs (checked
-# before any fit starts; values are checked where they are scaled).
-check_holdout <- function(holdout, data, call = rlang::caller_env()) {
-  needed <- c(data$names$y, data$names$x)
-  if (!is.data.frame(holdout) || !all(needed %in% names(holdout))) {
-    abort_bayesbem(c("{.arg holdout} must be a data frame with the output and the observable inputs, {.field {needed}}.",
-                     i = "Give the held-out outputs with their observable inputs (and covariates)."),
+check_both_or_neither <- function(newdata, obs, call = rlang::caller_env()) {
+  if (xor(is.null(newdata), is.null(obs))) {
+    abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
+                   "argument", call = call)
+  }
+}
+
+# Held-out data are both or neither of `newdata` (a data frame with the
+# observable inputs) and `obs` (one measured output per row), checked
+# before any fit starts; values are checked where they are scaled.
+check_held_out <- function(newdata, obs, data, call = rlang::caller_env()) {
+  check_both_or_neither(newdata, obs, call)
+  if (is.null(newdata)) return(invisible())
+  needed <- data$names$x
+  if (!is.data.frame(newdata) || !all(needed %in% names(newdata))) {
+    abort_bayesbem(c("{.arg newdata} must be a data frame with the observable inputs, {.field {needed}}.",
+                     i = "Give the held-out periods' observable inputs (and covariates)."),
                    "columns", call = call)
   }
-  invisible(holdout)
+  if (!is.numeric(obs) || length(obs) != nrow(newdata)) {
+    abort_bayesbem("{.arg obs} must be one measured output per row of {.arg newdata} ({nrow(newdata)}), not {describe_value(obs)}.",
+                   "argument", call = call)
+  }
+  invisible()
 }
 
 #' Calibration metrics of a KOH fit, with the Guideline 14 verdict
@@ -102,8 +115,7 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #'   training rows are then predicted through it.
 #' @param ndraws Number of posterior draws to use (all by default through
 #'   the emulator; 40 through a simulator).
-#' @param cache_dir Optional directory for cached simulator runs.
-#' @param frequency Deprecated; use `by`.
+#' @template args-cache-dir
 #' @return A data frame (class `bayesbem_metrics`, printed with 2 decimals) with
 #'   one row per data set (`set`: `training`, `held-out`) and `prediction`
 #'   (`simulator`, `calibrated`): `route` (`emulator` or `simulator`), `n`,
@@ -114,18 +126,10 @@ check_holdout <- function(holdout, data, call = rlang::caller_env()) {
 #' calibration_metrics(seb_fit, ndraws = 100)
 calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                                 by = c("month", "week", "day", "hour"),
-                                simulator = NULL, ndraws = NULL, cache_dir = NULL,
-                                frequency = deprecated()) {
-  if (lifecycle::is_present(frequency)) {
-    lifecycle::deprecate_warn("0.1.0", "calibration_metrics(frequency)", "calibration_metrics(by)")
-    by <- unname(c(monthly = "month", daily = "day", hourly = "hour")[frequency])
-  }
+                                simulator = NULL, ndraws = NULL, cache_dir = NULL) {
   by <- match_choice(by)
   limits <- if (by == "month") c(15, 5) else c(30, 10)
-  if (xor(is.null(newdata), is.null(obs))) {
-    abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
-                   "argument")
-  }
+  check_both_or_neither(newdata, obs)
   sets <- list(training = training_predictions(fit, simulator, ndraws, cache_dir))
   if (!is.null(newdata)) {
     sets[["held-out"]] <- heldout_predictions(fit, newdata, obs, ndraws, cache_dir)

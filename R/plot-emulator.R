@@ -6,7 +6,6 @@
 #' outside the interval). See [validate_emulator()].
 #'
 #' @param x A `bayesbem_emulator_check` from [validate_emulator()].
-#' @param check Deprecated; use `x`.
 #' @return `plot_emulator_check()` (and `plot(x)`): a ggplot. `plot_emulator_check_data()`:
 #'   the check's table with `position`, the period offset by draw.
 #' @family plots
@@ -17,20 +16,19 @@
 #' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 #' plot_emulator_check(validate_emulator(seb_fit, sim, ndraws = 5))
 #' }
-plot_emulator_check <- function(x, check = deprecated()) {
-  check <- renamed_first(x, check, "plot_emulator_check", "check")
-  d <- plot_emulator_check_data(check)
+plot_emulator_check <- function(x) {
+  d <- plot_emulator_check_data(x)
   ggplot2::ggplot(d, ggplot2::aes(x = .data$position)) +
     ggplot2::geom_linerange(ggplot2::aes(ymin = .data$lower, ymax = .data$upper),
-                            colour = "#1b6ca8", alpha = 0.6) +
+                            colour = colour_of("model"), alpha = 0.6) +
     ggplot2::geom_point(ggplot2::aes(y = .data$simulated, colour = .data$inside), size = 1) +
-    ggplot2::scale_colour_manual(values = c(`TRUE` = "black", `FALSE` = "#c0392b"),
+    ggplot2::scale_colour_manual(values = c(`TRUE` = "black", `FALSE` = colour_of("data")),
                                  labels = c(`TRUE` = "inside", `FALSE` = "outside"),
                                  name = "simulator output") +
-    ggplot2::labs(x = "field period", y = check$y,
+    ggplot2::labs(x = "field period", y = x$y,
                   caption = sprintf("bars: emulator's %.0f%% intervals at posterior draws; points: simulator",
-                                    100 * check$level)) +
-    ggplot2::theme_bw()
+                                    100 * x$level)) +
+    theme_bayesbem()
 }
 
 #' @export
@@ -41,13 +39,12 @@ plot.bayesbem_emulator_check <- function(x, ...) {
 
 #' @rdname plot_emulator_check
 #' @export
-plot_emulator_check_data <- function(x, check = deprecated()) {
-  check <- renamed_first(x, check, "plot_emulator_check_data", "check")
-  if (!inherits(check, "bayesbem_emulator_check")) {
-    abort_bayesbem("{.arg check} must come from {.fn validate_emulator}, not {describe_value(check)}.",
+plot_emulator_check_data <- function(x) {
+  if (!inherits(x, "bayesbem_emulator_check")) {
+    abort_bayesbem("{.arg x} must come from {.fn validate_emulator}, not {describe_value(x)}.",
                    "argument")
   }
-  d <- check$table
+  d <- x$table
   draws <- sort(unique(d$draw))
   offset <- if (length(draws) > 1L) (match(d$draw, draws) - 1) / (length(draws) - 1) - 0.5 else 0
   d$position <- d$period + 0.6 * offset

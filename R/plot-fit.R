@@ -20,19 +20,6 @@ plot.bayesbem_fit <- function(x, type = c("posteriors", "trace", "predictions", 
   type <- match_choice(type)
   plotter <- switch(type, posteriors = plot_posteriors, trace = plot_trace,
                     predictions = plot_predictions, components = plot_components)
-  check_dots_in(list(...), current_arguments(plotter)[-1], sprintf("plot_%s()", type))
+  check_dots_in(list(...), names(formals(plotter))[-1], sprintf("plot_%s()", type))
   plotter(x, ...)
-}
-
-# Box-plot statistics of each column of a draws matrix: whiskers at the 5 %
-# and 95 % quantiles, box at the quartiles.
-box_stats <- function(draws) {
-  as.data.frame(column_quantiles(draws, c(0.05, 0.25, 0.5, 0.75, 0.95)))
-}
-
-geom_quantile_box <- function(mapping, ...) {
-  ggplot2::geom_boxplot(
-    mapping = ggplot2::aes(ymin = .data$q5, lower = .data$q25, middle = .data$q50,
-                           upper = .data$q75, ymax = .data$q95),
-    stat = "identity", ...)
 }

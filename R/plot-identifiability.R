@@ -17,20 +17,20 @@
 plot_identifiability <- function(x) {
   d <- plot_identifiability_data(x)
   ggplot2::ggplot(d, ggplot2::aes(.data$sd_ratio, .data$abs_shift, colour = .data$verdict)) +
-    ggplot2::geom_vline(xintercept = c(0.5, 0.8), linetype = "dashed", colour = "grey60") +
-    ggplot2::geom_hline(yintercept = 2, linetype = "dashed", colour = "grey60") +
+    ggplot2::geom_vline(xintercept = c(0.5, 0.8), linetype = "dashed", colour = colour_of("reference")) +
+    ggplot2::geom_hline(yintercept = 2, linetype = "dashed", colour = colour_of("reference")) +
     ggplot2::geom_point(size = 2.5) +
     ggplot2::geom_text(ggplot2::aes(label = .data$parameter), vjust = -0.9, size = 3,
                        show.legend = FALSE) +
     ggplot2::scale_y_log10() +
-    ggplot2::scale_colour_manual(values = c(learnt = "#1b6ca8", `partly learnt` = "#6fa8d6",
-                                            `prior-driven` = "grey45",
-                                            `confounded with the discrepancy` = "#c0392b"),
+    ggplot2::scale_colour_manual(values = c(learnt = colour_of("model"),
+                                            `partly learnt` = colour_of("model_light"),
+                                            `prior-driven` = colour_of("prior"),
+                                            `confounded with the discrepancy` = colour_of("data")),
                                  drop = FALSE, name = NULL) +
     ggplot2::labs(x = "posterior sd / prior sd (1: the data taught nothing)",
                   y = "discrepancy's share of the parameter's effect\n(|shift|, posterior sds)") +
-    ggplot2::theme_bw() +
-    ggplot2::theme(legend.position = "bottom")
+    theme_bayesbem(legend = "bottom")
 }
 
 #' @export

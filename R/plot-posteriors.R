@@ -6,7 +6,6 @@
 #'
 #' @param x A `bayesbem_fit`, or a fit on several outputs (the parameters
 #'   they share).
-#' @param fit Deprecated; use `x`.
 #' @param n_grid Number of points at which densities are evaluated.
 #' @return `plot_posteriors()`: a ggplot. `plot_posteriors_data()`: a data
 #'   frame with columns `parameter`, `value`, `density` and `curve`
@@ -16,32 +15,30 @@
 #' @examples
 #' plot_posteriors(seb_fit)
 #' head(plot_posteriors_data(seb_fit))
-plot_posteriors <- function(x, n_grid = 200, fit = deprecated()) {
-  fit <- renamed_first(x, fit, "plot_posteriors", "fit")
-  d <- plot_posteriors_data(fit, n_grid)
+plot_posteriors <- function(x, n_grid = 200) {
+  d <- plot_posteriors_data(x, n_grid)
   ggplot2::ggplot(d, ggplot2::aes(.data$value, .data$density, colour = .data$curve,
                                   linetype = .data$curve)) +
     ggplot2::geom_line() +
     ggplot2::facet_wrap(ggplot2::vars(.data$parameter), scales = "free") +
-    ggplot2::scale_colour_manual(values = c(posterior = "#1b6ca8", prior = "grey45")) +
+    ggplot2::scale_colour_manual(values = c(posterior = colour_of("model"), prior = colour_of("prior"))) +
     ggplot2::scale_linetype_manual(values = c(posterior = "solid", prior = "dashed")) +
     ggplot2::labs(x = "value (physical units)", y = "density", colour = NULL, linetype = NULL) +
-    ggplot2::theme_bw() +
-    ggplot2::theme(legend.position = "bottom")
+    theme_bayesbem(legend = "bottom")
 }
 
 #' @rdname plot_posteriors
 #' @export
-plot_posteriors_data <- function(x, n_grid = 200, fit = deprecated()) {
-  fit <- output_fit_list(renamed_first(x, fit, "plot_posteriors_data", "fit"))[[1]]
-  data <- fit$data
-  draws <- parameter_draws(fit)
+plot_posteriors_data <- function(x, n_grid = 200) {
+  x <- output_fit_list(x)[[1]]
+  data <- x$data
+  draws <- parameter_draws(x)
   bounds <- t_bounds(data$scaling)
   rows <- lapply(seq_len(data$q), function(k) {
     name <- data$names$t[k]
     post <- stats::density(as.vector(draws[, name]), from = bounds$lower[[k]],
                            to = bounds$upper[[k]], n = n_grid)
-    prior <- prior_density(fit$priors$tf[[name]], post$x, bounds$lower[[k]], bounds$upper[[k]])
+    prior <- prior_density(x$priors$tf[[name]], post$x, bounds$lower[[k]], bounds$upper[[k]])
     data.frame(parameter = name, value = c(post$x, post$x),
                density = c(post$y, prior),
                curve = rep(c("posterior", "prior"), each = n_grid))

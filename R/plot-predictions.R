@@ -8,12 +8,11 @@
 #' @param x A `bayesbem_fit`, or a fit on several outputs: one row of
 #'   panels per output, at its field data (`newdata` and `obs` then stay
 #'   `NULL`).
-#' @param fit Deprecated; use `x`.
 #' @param newdata Observable inputs to predict at (default: the field
 #'   inputs).
 #' @param obs Measured outputs at `newdata` (default: the field outputs when
 #'   `newdata` is `NULL`, otherwise none).
-#' @param ndraws Number of posterior draws to use (all by default).
+#' @template args-ndraws
 #' @return `plot_predictions()`: a ggplot. `plot_predictions_data()`: a data
 #'   frame with one row per point and input: `point`, `input`, `x`, `width`
 #'   (box width), the box statistics `q5`, `q25`, `q50`, `q75`, `q95`, and
@@ -23,40 +22,37 @@
 #' @export
 #' @examples
 #' plot_predictions(seb_fit, ndraws = 100)
-plot_predictions <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
-                             fit = deprecated()) {
-  fit <- renamed_first(x, fit, "plot_predictions", "fit")
-  d <- plot_predictions_data(fit, newdata, obs, ndraws)
+plot_predictions <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
+  d <- plot_predictions_data(x, newdata, obs, ndraws)
   facets <- if (is.null(d$output)) {
     ggplot2::facet_wrap(ggplot2::vars(.data$input), scales = "free_x")
   } else {
     ggplot2::facet_grid(ggplot2::vars(.data$output), ggplot2::vars(.data$input), scales = "free")
   }
   ggplot2::ggplot(d, ggplot2::aes(x = .data$x, group = .data$point)) +
-    geom_quantile_box(ggplot2::aes(width = .data$width), fill = "#cfe0ef", colour = "#1b6ca8") +
-    ggplot2::geom_point(ggplot2::aes(y = .data$obs), colour = "#c0392b", na.rm = TRUE) +
+    geom_quantile_box(ggplot2::aes(width = .data$width), fill = colour_of("model_fill"),
+                      colour = colour_of("model")) +
+    ggplot2::geom_point(ggplot2::aes(y = .data$obs), colour = colour_of("data"), na.rm = TRUE) +
     facets +
     ggplot2::labs(x = "observable input (physical units)",
-                  y = if (is.null(d$output)) fit$data$names$y else "output",
+                  y = if (is.null(d$output)) x$data$names$y else "output",
                   caption = "boxes: calibrated prediction eta + delta; points: measured") +
-    ggplot2::theme_bw()
+    theme_bayesbem()
 }
 
 #' @rdname plot_predictions
 #' @export
-plot_predictions_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
-                                  fit = deprecated()) {
-  fit <- renamed_first(x, fit, "plot_predictions_data", "fit")
-  if (inherits(fit, "bayesbem_outputs_fit")) {
-    return(outputs_plot_data(fit, plot_predictions_data, newdata, obs, ndraws))
+plot_predictions_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
+  if (inherits(x, "bayesbem_outputs_fit")) {
+    return(outputs_plot_data(x, plot_predictions_data, newdata, obs, ndraws))
   }
-  set <- prediction_set(fit, newdata, obs)
-  stats <- box_stats(predict_draws(fit, set$x, ndraws = ndraws)$y)
-  x_names <- fit$data$names$x
+  set <- prediction_set(x, newdata, obs)
+  stats <- box_stats(predict_draws(x, set$x, ndraws = ndraws)$y)
+  x_names <- x$data$names$x
   rows <- lapply(x_names, function(name) {
-    x <- set$x[[name]]
-    data.frame(point = seq_along(x), input = name, x = x,
-               width = 0.04 * max(diff(range(x)), 1e-8),
+    value <- set$x[[name]]
+    data.frame(point = seq_along(value), input = name, x = value,
+               width = 0.04 * max(diff(range(value)), 1e-8),
                stats, obs = set$obs)
   })
   out <- do.call(rbind, rows)
@@ -87,42 +83,38 @@ plot_predictions_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
 #' @export
 #' @examples
 #' plot_components(seb_fit, ndraws = 100)
-plot_components <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
-                            fit = deprecated()) {
-  fit <- renamed_first(x, fit, "plot_components", "fit")
-  d <- plot_components_data(fit, newdata, obs, ndraws)
+plot_components <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
+  d <- plot_components_data(x, newdata, obs, ndraws)
   columns <- if (is.null(d$output)) ggplot2::vars(.data$set) else ggplot2::vars(.data$output)
   zero <- data.frame(component = factor(component_labels()[3], levels = component_labels()),
                      y = 0)
   ggplot2::ggplot(d, ggplot2::aes(x = .data$period, group = .data$period)) +
-    ggplot2::geom_hline(data = zero, ggplot2::aes(yintercept = .data$y), colour = "grey50") +
-    geom_quantile_box(ggplot2::aes(), width = 0.6, fill = "#cfe0ef", colour = "#1b6ca8") +
-    ggplot2::geom_point(ggplot2::aes(y = .data$obs), colour = "#c0392b", na.rm = TRUE) +
+    ggplot2::geom_hline(data = zero, ggplot2::aes(yintercept = .data$y), colour = colour_of("reference")) +
+    geom_quantile_box(width = 0.6, fill = colour_of("model_fill"), colour = colour_of("model")) +
+    ggplot2::geom_point(ggplot2::aes(y = .data$obs), colour = colour_of("data"), na.rm = TRUE) +
     ggplot2::facet_grid(ggplot2::vars(.data$component), columns, scales = "free",
                         space = "free_x") +
-    ggplot2::labs(x = if (is.null(output_fit_list(fit)[[1]]$data$names$period)) "point" else "period",
+    ggplot2::labs(x = if (is.null(output_fit_list(x)[[1]]$data$names$period)) "point" else "period",
                   y = NULL,
                   caption = "boxes: posterior draws; points: measured output") +
-    ggplot2::theme_bw() +
+    theme_bayesbem() +
     ggplot2::theme(axis.text.x = ggplot2::element_text(angle = 90, vjust = 0.5, hjust = 1))
 }
 
 #' @rdname plot_components
 #' @export
-plot_components_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL,
-                                 fit = deprecated()) {
-  fit <- renamed_first(x, fit, "plot_components_data", "fit")
-  if (inherits(fit, "bayesbem_outputs_fit")) {
-    return(outputs_plot_data(fit, plot_components_data, newdata, obs, ndraws))
+plot_components_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
+  if (inherits(x, "bayesbem_outputs_fit")) {
+    return(outputs_plot_data(x, plot_components_data, newdata, obs, ndraws))
   }
-  sets <- evaluation_sets(fit, newdata, obs)
+  sets <- evaluation_sets(x, newdata, obs)
   labels <- component_labels()
   rows <- lapply(names(sets), function(set) {
     s <- sets[[set]]
-    draws <- predict_draws(fit, s$x, ndraws = ndraws)
+    draws <- predict_draws(x, s$x, ndraws = ndraws)
     share <- 100 * sweep(draws$delta, 2, s$obs, "/")
     parts <- list(draws$y, draws$eta, share)
-    period <- period_labels(fit$data, if (set == "training") fit$data$field else newdata)
+    period <- period_labels(x$data, if (set == "training") x$data$field else newdata)
     do.call(rbind, lapply(seq_along(parts), function(i) {
       data.frame(set = set, point = seq_along(s$obs), period = period, component = labels[i],
                  box_stats(parts[[i]]), obs = if (i < 3) s$obs else NA_real_)

@@ -25,16 +25,16 @@ plot_savings <- function(x, ...) {
   d <- plot_savings_data(x)
   total <- attr(d, "total")
   ggplot2::ggplot(d, ggplot2::aes(x = .data$period, group = .data$period)) +
-    ggplot2::geom_hline(yintercept = 0, colour = "grey50") +
-    geom_quantile_box(ggplot2::aes(), width = 0.6, fill = "#d5ecd4", colour = "#2e7d32") +
-    ggplot2::geom_point(ggplot2::aes(y = .data$mean), colour = "#2e7d32", shape = 4) +
+    ggplot2::geom_hline(yintercept = 0, colour = colour_of("reference")) +
+    geom_quantile_box(width = 0.6, fill = colour_of("savings_fill"), colour = colour_of("savings")) +
+    ggplot2::geom_point(ggplot2::aes(y = .data$mean), colour = colour_of("savings"), shape = 4) +
     ggplot2::labs(x = "period", y = "savings (baseline - retrofit)",
                   title = x$scenarios$retrofit$name,
                   subtitle = sprintf("total %s (90 %% interval %s to %s); discrepancy: %s",
                                      signif(total$mean, 3), signif(total$q5, 3),
                                      signif(total$q95, 3), x$discrepancy),
                   caption = "boxes: quartiles, whiskers: 5 % and 95 % of paired posterior draws; crosses: means") +
-    ggplot2::theme_bw()
+    theme_bayesbem()
 }
 
 #' @export

@@ -8,7 +8,6 @@
 #'
 #' @param x A `bayesbem_fit`, or a fit on several outputs (each output's
 #'   variables named as `posterior::as_draws()` names them, `"gas:lambda_e"`).
-#' @param fit Deprecated; use `x`.
 #' @param variables Variables to show (names as in
 #'   `posterior::variables(posterior::as_draws(fit))`); all by default.
 #' @return `plot_trace()`: a ggplot. `plot_trace_data()`: a data frame from
@@ -19,17 +18,15 @@
 #' @export
 #' @examples
 #' plot_trace(seb_fit, variables = c("equipment_power_density", "lambda_e"))
-plot_trace <- function(x, variables = NULL, fit = deprecated()) {
-  fit <- renamed_first(x, fit, "plot_trace", "fit")
-  bayesplot::mcmc_trace(trace_draws(fit, variables)) +
-    ggplot2::theme_bw()
+plot_trace <- function(x, variables = NULL) {
+  bayesplot::mcmc_trace(trace_draws(x, variables)) +
+    theme_bayesbem()
 }
 
 #' @rdname plot_trace
 #' @export
-plot_trace_data <- function(x, variables = NULL, fit = deprecated()) {
-  fit <- renamed_first(x, fit, "plot_trace_data", "fit")
-  bayesplot::mcmc_trace_data(trace_draws(fit, variables))
+plot_trace_data <- function(x, variables = NULL) {
+  bayesplot::mcmc_trace_data(trace_draws(x, variables))
 }
 
 trace_draws <- function(fit, variables) {

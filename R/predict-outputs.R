@@ -15,11 +15,7 @@
 #'   long one whose `output` column (the column the data named outputs by)
 #'   says which output each row is for; by default each output's field
 #'   inputs.
-#' @param total Optional named weights by output, e.g. `c(electricity = 1,
-#'   gas = 1)` for the energy of both meters, or their prices for the cost:
-#'   adds the rows of output `"total"`, the weighted sum of the outputs
-#'   named at each row. Needs the same inputs for every output (`newdata`
-#'   without an `output` column, or outputs with the same field periods).
+#' @template args-total
 #' @return With `summary = TRUE`, the data frame of [predict.bayesbem_fit()]
 #'   with a first column `output`; else a list of draws-by-points matrices
 #'   by output (and `total`).
@@ -27,7 +23,7 @@
 #' @export
 predict.bayesbem_outputs_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"),
                                          ndraws = NULL, summary = TRUE, noise = FALSE,
-                                         probs = c(0.05, 0.5, 0.95), total = NULL, ...) {
+                                         level = 0.9, total = NULL, ...) {
   rlang::check_dots_empty()
   type <- match_choice(type)
   check_bool(summary)
@@ -46,7 +42,7 @@ predict.bayesbem_outputs_fit <- function(object, newdata = NULL, type = c("y", "
   }
   x <- object$data$names$x
   rows <- lapply(names(draws), function(k) {
-    cbind(output = k, summarise_columns(draws[[k]], inputs[[k]][x], probs))
+    cbind(output = k, summarise_columns(draws[[k]], inputs[[k]][x], level))
   })
   do.call(rbind, rows)
 }
@@ -99,16 +95,4 @@ check_total_weights <- function(total, inputs, call = rlang::caller_env()) {
                      i = "Give {.arg newdata} without an output column: one set of inputs for all outputs."),
                    "argument", call = call)
   }
-}
-
-# The weighted total of outputs' draws-by-columns matrices `parts` (by
-# output), draw by draw, `total` the weights by output. When the outputs'
-# rows may be other draws, `draw` gives each output's draws' indices, and
-# the total is over the draws all of them have, in the first's order.
-weighted_total <- function(total, parts, draw = NULL) {
-  shared <- if (!is.null(draw)) Reduce(intersect, draw)
-  Reduce(`+`, lapply(names(total), function(k) {
-    rows <- if (is.null(shared)) seq_len(nrow(parts[[k]])) else match(shared, draw[[k]])
-    total[[k]] * parts[[k]][rows, , drop = FALSE]
-  }))
 }

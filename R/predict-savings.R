@@ -28,13 +28,11 @@
 #' @param fit A `bayesbem_fit`, or a fit on several outputs.
 #' @param baseline,retrofit [scenario()]s (or simulators) over the same
 #'   periods.
-#' @param ndraws Number of posterior draws (evenly spaced).
+#' @template args-ndraws-runs
 #' @param discrepancy What the retrofit does to the discrepancy (see
 #'   Details).
-#' @param cache_dir Optional directory for cached runs, see
-#'   [simulate_design()].
-#' @param total On a fit on several outputs, optional weights by output
-#'   (`c(electricity = 0.15, gas = 0.05)`: prices) of the total savings.
+#' @template args-cache-dir
+#' @template args-total
 #' @param ... Unused.
 #' @return A `bayesbem_savings`: a list with the draws-by-periods matrices
 #'   `baseline`, `retrofit` and `savings`, `inputs`, `draw`, the scenarios
@@ -187,15 +185,6 @@ check_same_periods <- function(baseline, retrofit, call = rlang::caller_env()) {
   }
 }
 
-# Row labels of per-period tables with their total.
-total_labels <- function(n) c(as.character(seq_len(n)), "total")
-
-# Draws by periods with a last column, their total over the periods.
-with_total <- function(draws) cbind(draws, rowSums(draws))
-
-# The quantiles that bound a central interval of `level`.
-interval_probs <- function(level) c((1 - level) / 2, 1 - (1 - level) / 2)
-
 #' Avoided energy use: adjusted baseline less measured use (IPMVP Option D)
 #'
 #' After a retrofit, the savings of the reporting period are the avoided
@@ -221,16 +210,18 @@ interval_probs <- function(level) c((1 - level) / 2, 1 - (1 - level) / 2)
 #' @param fit A `bayesbem_fit` of the pre-retrofit period.
 #' @param reporting A [scenario()] (or simulator) of the reporting period:
 #'   its weather, the pre-retrofit model.
-#' @param measured Measured use in each reporting period (numeric, one per
+#' @param obs Measured use in each reporting period (numeric, one per
 #'   period of `reporting`; `NA` for a period without a measurement, e.g.
 #'   the months after the last bill: such periods are left out of the
 #'   table and the total).
-#' @param ndraws Number of posterior draws.
-#' @param level Level of the intervals.
-#' @param cache_dir Optional directory for cached runs.
+#' @param discrepancy What the reporting period does to the discrepancy, as
+#'   in [predict_scenario()].
+#' @template args-ndraws-runs
+#' @template args-level
+#' @template args-cache-dir
 #' @param ... Unused.
 #' @return A `bayesbem_avoided_energy`: a list with `table` (per period and
-#'   total: `adjusted_baseline`, `measured`, `avoided`, its `sd`, `lower`
+#'   total: `adjusted_baseline`, `obs`, `avoided`, its `sd`, `lower`
 #'   and `upper`), `fsu` (the Bayesian one and Guideline 14's), `draws` (the
 #'   adjusted baseline's draws) and `level`.
 #' @family prediction
@@ -241,23 +232,26 @@ interval_probs <- function(level) c((1 - level) / 2, 1 - (1 - level) / 2)
 #' after <- 0.8 * seb_field$y   # bills of a year after a retrofit
 #' avoided_energy(seb_fit, sim, after, ndraws = 10)
 #' }
-avoided_energy <- function(fit, reporting, measured, ndraws = 40, level = 0.9,
-                           cache_dir = NULL, ...) {
+avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
+                           discrepancy = c("same", "proportional", "none"), cache_dir = NULL,
+                           ...) {
   rlang::check_dots_empty()
   check_fit(fit)
   reporting <- as_scenario(reporting)
   check_probability(level)
-  keep <- measured_periods(measured, nrow(reporting$simulator$x))
-  measured <- measured[keep]
+  discrepancy <- match_choice(discrepancy)
+  keep <- measured_periods(obs, nrow(reporting$simulator$x))
+  obs <- obs[keep]
   m <- length(keep)
-  adjusted <- predict_scenario(fit, reporting, ndraws = ndraws, cache_dir = cache_dir)$y
+  adjusted <- predict_scenario(fit, reporting, ndraws = ndraws, discrepancy = discrepancy,
+                               cache_dir = cache_dir)$y
   adjusted <- adjusted[, keep, drop = FALSE]
-  avoided <- adjusted - rep(measured, each = nrow(adjusted))
+  avoided <- adjusted - rep(obs, each = nrow(adjusted))
   both <- with_total(avoided)
   q <- column_quantiles(both, interval_probs(level))
   table <- data.frame(period = c(as.character(keep), "total"),
                       adjusted_baseline = colMeans(with_total(adjusted)),
-                      measured = c(measured, sum(measured)), avoided = colMeans(both),
+                      obs = c(obs, sum(obs)), avoided = colMeans(both),
                       sd = apply(both, 2, stats::sd), lower = q[, 1], upper = q[, 2],
                       row.names = NULL)
   total <- table[nrow(table), ]

@@ -131,17 +131,20 @@ check_scenario_range <- function(simulator, design, what, call = rlang::caller_e
 #' @param fit A `bayesbem_fit`.
 #' @param scenario A [scenario()], or a simulator (the scenario with no
 #'   change).
-#' @param ndraws Number of posterior draws (evenly spaced) to run the
-#'   simulator at.
-#' @param discrepancy Add the discrepancy `delta` to the simulator's output.
+#' @template args-ndraws-runs
+#' @param discrepancy What the scenario does to the discrepancy, the part of
+#'   the measured use the simulator misses: `"same"` (default) adds the
+#'   discrepancy at the scenario's inputs; `"proportional"` scales it by the
+#'   scenario's simulated use over the calibrated model's under the same
+#'   weather (a simulator that misses a share of the loads the scenario
+#'   changes; one more run per draw when the scenario changes parameters);
+#'   `"none"` leaves it out (the simulator alone). The same choice as
+#'   [savings()]'s and [avoided_energy()]'s.
 #' @param noise Add observation noise.
 #' @param covariates For a fit with discrepancy terms ([extend()]): their
 #'   values at the scenario's periods, a data frame with one row per period.
-#' @param cache_dir Optional directory for cached runs, see
-#'   [simulate_design()].
-#' @param total On a fit on several outputs, optional weights by output
-#'   (`c(electricity = 1, gas = 1)`, or prices) of a total predicted draw
-#'   by draw.
+#' @template args-cache-dir
+#' @template args-total
 #' @param ... Unused.
 #' @section Several outputs: On a fit on several outputs the scenario's
 #'   simulator gives them all (e.g. `bem_simulator(output = c("electricity",
@@ -167,9 +170,11 @@ check_scenario_range <- function(simulator, design, what, call = rlang::caller_e
 #' p
 #' summary(p)
 #' }
-predict_scenario <- function(fit, scenario, ndraws = 40, discrepancy = TRUE, noise = TRUE,
+predict_scenario <- function(fit, scenario, ndraws = 40,
+                             discrepancy = c("same", "proportional", "none"), noise = TRUE,
                              covariates = NULL, cache_dir = NULL, total = NULL, ...) {
   rlang::check_dots_empty()
+  discrepancy <- match_choice(discrepancy)
   if (inherits(fit, "bayesbem_outputs_fit")) {
     return(predict_scenario_outputs(fit, scenario, ndraws, discrepancy, noise, covariates,
                                     cache_dir, total))
@@ -180,12 +185,22 @@ predict_scenario <- function(fit, scenario, ndraws = 40, discrepancy = TRUE, noi
                    "argument")
   }
   scenario <- as_scenario(scenario)
-  check_bool(discrepancy)
   check_bool(noise)
-  runs <- scenario_runs(fit, list(scenario), ndraws, cache_dir)
+  changed <- length(scenario$set) + length(scenario$scale) > 0L
+  scenarios <- list(scenario)
+  if (discrepancy == "proportional" && changed) {
+    scenarios$calibrated <- as_scenario(scenario$simulator)
+  }
+  runs <- scenario_runs(fit, scenarios, ndraws, cache_dir)
   simulated <- runs$simulated[[1]]
   inputs <- scenario_inputs(fit, scenario, covariates)
-  delta <- if (discrepancy) scenario_delta(fit, inputs, simulated, runs$draws) else 0 * simulated
+  delta <- if (discrepancy == "none") {
+    0 * simulated
+  } else {
+    calibrated <- runs$simulated[[length(scenarios)]]
+    delta <- scenario_delta(fit, inputs, calibrated, runs$draws)
+    if (discrepancy == "proportional") delta * simulated / calibrated else delta
+  }
   y <- simulated + delta
   if (noise) y <- y + noise_draws(fit, runs$draws, ncol(y))
   structure(list(y = y, simulated = simulated, delta = delta, inputs = scenario$simulator$x,
@@ -195,15 +210,17 @@ predict_scenario <- function(fit, scenario, ndraws = 40, discrepancy = TRUE, noi
 }
 
 #' @export
-summary.bayesbem_scenario_prediction <- function(object, probs = c(0.05, 0.5, 0.95), ...) {
+summary.bayesbem_scenario_prediction <- function(object, level = 0.9, ...) {
   rlang::check_dots_empty()
-  draws_with_total(object$y, object$inputs, probs)
+  draws_with_total(object$y, object$inputs, level)
 }
 
 #' @export
 print.bayesbem_scenario_prediction <- function(x, ...) {
   rlang::check_dots_empty()
-  parts <- c("the simulator", if (x$discrepancy) "the discrepancy", if (x$noise) "noise")
+  parts <- c("the simulator",
+             if (x$discrepancy != "none") sprintf("the discrepancy (%s)", x$discrepancy),
+             if (x$noise) "noise")
   cat_lines("{.cls bayesbem_scenario_prediction}: {x$scenario$name}",
             "* {x$scenario$simulator$name}, {ncol(x$y)} period{?s}",
             "* {nrow(x$y)} posterior draw{?s}: {and_list(parts)}", "")
@@ -251,14 +268,14 @@ shared_runs <- function(simulator) {
 }
 
 #' @export
-summary.bayesbem_scenario_predictions <- function(object, probs = c(0.05, 0.5, 0.95), ...) {
+summary.bayesbem_scenario_predictions <- function(object, level = 0.9, ...) {
   rlang::check_dots_empty()
   rows <- lapply(names(object$outputs), function(k) {
-    cbind(output = k, summary(object$outputs[[k]], probs = probs))
+    cbind(output = k, summary(object$outputs[[k]], level = level))
   })
   if (!is.null(object$total)) {
     inputs <- object$outputs[[names(object$weights)[1]]]$inputs
-    rows <- c(rows, list(cbind(output = "total", draws_with_total(object$total, inputs, probs))))
+    rows <- c(rows, list(cbind(output = "total", draws_with_total(object$total, inputs, level))))
   }
   do.call(rbind, rows)
 }
@@ -424,11 +441,4 @@ delta_given_eta <- function(cond, s) {
 noise_draws <- function(fit, draws, n) {
   sd_e <- fit$data$scaling$y_scale / sqrt(vapply(draws, `[[`, numeric(1), "lambda_e"))
   matrix(stats::rnorm(length(draws) * n, sd = sd_e), length(draws), n)
-}
-
-# Mean, sd and quantiles of each period's draws and of their total.
-draws_with_total <- function(draws, inputs, probs) {
-  inputs <- rbind(inputs, inputs[NA_integer_, , drop = FALSE])
-  summarise_columns(with_total(draws), data.frame(period = total_labels(ncol(draws)), inputs),
-                    probs)
 }

@@ -29,16 +29,16 @@
 #'   [extend()]); defaults to the field inputs. Inputs outside the range
 #'   the model was calibrated on get a warning (extrapolation).
 #' @param type One of `"y"`, `"eta"` or `"delta"`.
-#' @param ndraws Number of posterior draws to use (evenly spaced); all by
-#'   default.
+#' @template args-ndraws
 #' @param summary If `TRUE`, a data frame of summaries; if `FALSE`, a matrix
 #'   of draws (rows) by points (columns).
 #' @param noise Add observation noise `N(0, 1/lambda_e)` to `type = "y"`.
 #' @param method `"conditional"` or `"sampled"` (see Details).
-#' @param probs Quantiles reported when `summary = TRUE`.
+#' @template args-level
 #' @param ... Unused.
-#' @return A data frame with the inputs, `mean`, `sd` and one column per
-#'   quantile (`q5`, `q50`, `q95` by default), or a draws-by-points matrix.
+#' @return A data frame with the inputs, `mean`, `sd`, the median `q50` and
+#'   the interval's bounds (`q5` and `q95` at `level = 0.9`), or a
+#'   draws-by-points matrix.
 #' @family prediction
 #' @export
 #' @examples
@@ -48,7 +48,7 @@
 predict.bayesbem_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"),
                             ndraws = NULL, summary = TRUE, noise = FALSE,
                             method = c("conditional", "sampled"),
-                            probs = c(0.05, 0.5, 0.95), ...) {
+                            level = 0.9, ...) {
   rlang::check_dots_empty()
   type <- match_choice(type)
   method <- match_choice(method)
@@ -62,7 +62,7 @@ predict.bayesbem_fit <- function(object, newdata = NULL, type = c("y", "eta", "d
   if (!summary) {
     return(draws)
   }
-  summarise_columns(draws, newdata[object$data$names$x], probs)
+  summarise_columns(draws, newdata[object$data$names$x], level)
 }
 
 # Draws (rows) by points (columns) of y, eta and delta in physical units,
@@ -194,19 +194,4 @@ scale_newdata <- function(data, newdata, arg = "newdata", call = rlang::caller_e
                   "extrapolation")
   }
   scale_x(x, s)
-}
-
-# Quantiles of each column of a draws matrix: one row per column, one column
-# per probability, named q5, q50, ...
-column_quantiles <- function(draws, probs) {
-  q <- matrix(t(apply(draws, 2, stats::quantile, probs = probs, names = FALSE)),
-              ncol = length(probs))
-  colnames(q) <- paste0("q", signif(100 * probs, 3))
-  q
-}
-
-# Data frame of `inputs` with mean, sd and quantiles of each column of `draws`.
-summarise_columns <- function(draws, inputs, probs) {
-  data.frame(inputs, mean = colMeans(draws), sd = apply(draws, 2, stats::sd),
-             column_quantiles(draws, probs), row.names = NULL)
 }

@@ -108,7 +108,6 @@ bem_building <- function(...) {
 #'
 #' @param parameters A named list or one-row data frame with all 14
 #'   parameters of [bem_parameters()] (physical units).
-#' @param params Deprecated; use `parameters`.
 #' @param weather Monthly weather as from [epw_monthly()] (columns `hours`,
 #'   `temp`, `dni`, `dhi`, `ghi`).
 #' @param building Building properties from [bem_building()].
@@ -120,11 +119,7 @@ bem_building <- function(...) {
 #' p <- stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
 #' w <- epw_monthly(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 #' bem_monthly(p, w)
-bem_monthly <- function(parameters, weather, building = bem_building(), params = deprecated()) {
-  if (lifecycle::is_present(params)) {
-    lifecycle::deprecate_warn("0.1.0", "bem_monthly(params)", "bem_monthly(parameters)")
-    parameters <- params
-  }
+bem_monthly <- function(parameters, weather, building = bem_building()) {
   p <- as.list(parameters)
   b <- building
   hours <- weather$hours

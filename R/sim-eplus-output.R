@@ -13,20 +13,13 @@
 #' @param by The reporting frequency: `"day"`, `"hour"`, `"month"`,
 #'   `"timestep"` or `"run period"` (EnergyPlus's Daily, Hourly, Monthly,
 #'   Timestep, RunPeriod).
-#' @param frequency Deprecated; use `by`.
 #' @return A data frame with one row per reported interval: `month`, `day`,
 #'   `hour`, `minute` (the end of the interval), `value`; attributes `type`
 #'   (`"Sum"` for energy, `"Avg"` for rates and temperatures) and `units`.
 #' @family EnergyPlus
 #' @export
 eplus_output <- function(run, name, key = NULL,
-                         by = c("day", "hour", "month", "timestep", "run period"),
-                         frequency = deprecated()) {
-  if (lifecycle::is_present(frequency)) {
-    lifecycle::deprecate_warn("0.1.0", "eplus_output(frequency)", "eplus_output(by)")
-    by <- names(reporting_frequencies())[match(tolower(frequency),
-                                               tolower(reporting_frequencies()))]
-  }
+                         by = c("day", "hour", "month", "timestep", "run period")) {
   frequency <- reporting_frequencies()[[match_choice(by)]]
   check_eplus_run(run)
   con <- DBI::dbConnect(RSQLite::SQLite(), run$sql, flags = RSQLite::SQLITE_RO)

@@ -29,12 +29,12 @@
 #'   table's parameter columns in order.
 #' @param k Numbers of parameters to calibrate.
 #' @param n_runs Runs per design (with a simulator).
-#' @param holdout Optional held-out data: a data frame with the output
-#'   column and the observable inputs.
+#' @param newdata,obs Optional held-out data: a data frame with the
+#'   observable inputs, and the measured output of each of its rows.
 #' @param priors A [koh_priors()] object; calibration-parameter priors it
 #'   gives for parameters outside a fit's top `k` are dropped for that fit.
 #' @param seed Random seed of the designs and of every fit.
-#' @param ndraws Number of posterior draws used for the metrics.
+#' @template args-ndraws
 #' @param ... Further arguments to [calibrate()], e.g. `chains`, `iter`,
 #'   `cores`.
 #' @return An object of class `bayesbem_parameter_study`: a list with `fits` (a
@@ -54,7 +54,7 @@
 #' plot(study)
 #' }
 study_parameters <- function(field, sim = NULL, ranking = NULL, k = 2:6, n_runs = 30L,
-                             holdout = NULL, priors = koh_priors(), seed = 2018L,
+                             newdata = NULL, obs = NULL, priors = koh_priors(), seed = 2018L,
                              ndraws = NULL, ...) {
   check_count(n_runs)
   if (inherits(sim, "bayesbem_simulator")) {
@@ -74,7 +74,7 @@ study_parameters <- function(field, sim = NULL, ranking = NULL, k = 2:6, n_runs 
                data$sim[c(cols$eta, cols$x_sim, ranking[seq_len(kk)])])
     })
   }
-  if (!is.null(holdout)) check_holdout(holdout, datasets[[1]])
+  check_held_out(newdata, obs, datasets[[1]])
   jobs <- lapply(datasets, function(d) {
     kept <- priors
     kept$tf <- priors$tf[intersect(names(priors$tf), d$names$t)]
@@ -84,7 +84,7 @@ study_parameters <- function(field, sim = NULL, ranking = NULL, k = 2:6, n_runs 
   fits <- run_fits(jobs)
   structure(list(fits = fits, k = k, ranking = ranking,
                  posteriors = study_posteriors(fits, "k"),
-                 metrics = study_metrics(fits, "k", holdout, ndraws)),
+                 metrics = study_metrics(fits, "k", newdata, obs, ndraws)),
             class = "bayesbem_parameter_study")
 }
 
@@ -118,50 +118,4 @@ study_ranking <- function(ranking, available, k, call = rlang::caller_env()) {
 print.bayesbem_parameter_study <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
   print_study(x, "k", "{.cls bayesbem_parameter_study}: top k = {x$k} of {.field {x$ranking}}", digits)
-}
-
-#' Plot a parameter study
-#'
-#' The paper's Fig 4: for each calibration parameter, box plots of its
-#' posterior (whiskers 5-95 %, box 25-75 %, line at the median) for each
-#' number of calibrated parameters `k`, in physical units.
-#'
-#' @param x A `bayesbem_parameter_study` from [study_parameters()].
-#' @param ... Unused.
-#' @return `plot_parameter_study()` (and `plot(x)`): a ggplot. `plot_parameter_study_data()`:
-#'   the data frame it draws, `x$posteriors` with `k` as a factor and
-#'   parameters in ranking order.
-#' @family studies
-#' @family plots
-#' @export
-#' @examples
-#' \donttest{
-#' study <- study_parameters(seb_field, seb_sim, k = 1:3, chains = 1, iter = 300,
-#'                           refresh = 0)
-#' plot_parameter_study(study)
-#' }
-plot_parameter_study <- function(x) {
-  d <- plot_parameter_study_data(x)
-  ggplot2::ggplot(d, ggplot2::aes(x = .data$k, group = .data$k)) +
-    geom_quantile_box(width = 0.6, fill = "#9ecae1", colour = "#1b6ca8") +
-    ggplot2::facet_wrap(ggplot2::vars(.data$parameter), scales = "free_y") +
-    ggplot2::labs(x = "number of calibrated parameters k", y = "posterior (physical units)") +
-    ggplot2::theme_bw()
-}
-
-#' @rdname plot_parameter_study
-#' @export
-plot_parameter_study_data <- function(x) {
-  check_study(x, "bayesbem_parameter_study")
-  d <- x$posteriors
-  d$k <- factor(d$k, levels = paste("k =", x$k), labels = x$k)
-  d$parameter <- factor(d$parameter, levels = x$ranking[x$ranking %in% d$parameter])
-  d
-}
-
-#' @rdname plot_parameter_study
-#' @export
-plot.bayesbem_parameter_study <- function(x, ...) {
-  rlang::check_dots_empty()
-  plot_parameter_study(x)
 }

@@ -22,13 +22,12 @@
 #'   per calibration parameter (the modeller's best guess, e.g. the
 #'   simulator's initial values); needed for the `"weak"` and `"specific"`
 #'   levels.
-#' @param holdout Optional held-out data: a data frame with the output
-#'   column and the observable inputs.
+#' @param newdata,obs Optional held-out data: a data frame with the
+#'   observable inputs, and the measured output of each of its rows.
 #' @param priors A [koh_priors()] object giving the GP hyperpriors; its
 #'   calibration-parameter priors are replaced by each level's.
 #' @param seed Random seed of every fit (the same for all levels).
-#' @param ndraws Number of posterior draws used for the metrics (all by
-#'   default).
+#' @template args-ndraws
 #' @param ... Further arguments to [calibrate()], e.g. `chains`, `iter`,
 #'   `cores`.
 #' @return An object of class `bayesbem_prior_study`: a list with `fits` (the
@@ -50,7 +49,8 @@
 #' plot(study)
 #' }
 study_priors <- function(field, sim = NULL, levels = c("flat", "weak", "specific"), mu = NULL,
-                         holdout = NULL, priors = koh_priors(), seed = 2018L, ndraws = NULL, ...) {
+                         newdata = NULL, obs = NULL, priors = koh_priors(), seed = 2018L,
+                         ndraws = NULL, ...) {
   data <- as_koh_data(field, sim)
   known <- c("flat", "weak", "specific")
   if (!is.character(levels) || length(levels) == 0L || !all(levels %in% known) ||
@@ -60,7 +60,7 @@ study_priors <- function(field, sim = NULL, levels = c("flat", "weak", "specific
                    "argument")
   }
   check_priors(priors)
-  if (!is.null(holdout)) check_holdout(holdout, data)
+  check_held_out(newdata, obs, data)
   call <- rlang::current_env()
   jobs <- lapply(stats::setNames(nm = levels), function(level) {
     level_priors <- priors
@@ -71,7 +71,7 @@ study_priors <- function(field, sim = NULL, levels = c("flat", "weak", "specific
   })
   fits <- run_fits(jobs)
   structure(list(fits = fits, levels = levels, posteriors = study_posteriors(fits, "level"),
-                 metrics = study_metrics(fits, "level", holdout, ndraws),
+                 metrics = study_metrics(fits, "level", newdata, obs, ndraws),
                  densities = prior_study_densities(fits)),
             class = "bayesbem_prior_study")
 }
@@ -93,59 +93,4 @@ print.bayesbem_prior_study <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
   print_study(x, "level",
               "{.cls bayesbem_prior_study}: {length(x$levels)} prior level{?s} ({.val {x$levels}})", digits)
-}
-
-#' Plot a prior study
-#'
-#' The paper's Fig 5: for each calibration parameter, its posterior density
-#' under each prior level, in physical units over the design range.
-#'
-#' @param x A `bayesbem_prior_study` from [study_priors()].
-#' @param ... Unused.
-#' @return `plot_prior_study()` (and `plot(x)`): a ggplot. `plot_prior_study_data()`: a data
-#'   frame with columns `level`, `parameter`, `value` and `density` (the
-#'   posteriors; see [plot_posteriors_data()]).
-#' @family studies
-#' @family plots
-#' @export
-#' @examples
-#' \donttest{
-#' mu <- c(fan_total_efficiency = 0.6, equipment_power_density = 21.9,
-#'         infiltration_per_exterior_area = 0.0011)
-#' study <- study_priors(seb_field, seb_sim, levels = c("flat", "specific"), mu = mu,
-#'                       chains = 1, iter = 300, seed = 1, refresh = 0)
-#' plot_prior_study(study)
-#' }
-plot_prior_study <- function(x) {
-  d <- plot_prior_study_data(x)
-  ggplot2::ggplot(d, ggplot2::aes(.data$value, .data$density, colour = .data$level)) +
-    ggplot2::geom_line() +
-    ggplot2::facet_wrap(ggplot2::vars(.data$parameter), scales = "free") +
-    ggplot2::scale_colour_manual(values = c(flat = "grey40", weak = "#1b6ca8",
-                                            specific = "#c0392b")) +
-    ggplot2::labs(x = "value (physical units)", y = "posterior density", colour = "prior") +
-    ggplot2::theme_bw() +
-    ggplot2::theme(legend.position = "bottom")
-}
-
-#' @rdname plot_prior_study
-#' @export
-plot_prior_study_data <- function(x) {
-  check_study(x, "bayesbem_prior_study")
-  x$densities
-}
-
-#' @rdname plot_prior_study
-#' @export
-plot.bayesbem_prior_study <- function(x, ...) {
-  rlang::check_dots_empty()
-  plot_prior_study(x)
-}
-
-check_study <- function(x, class, arg = rlang::caller_arg(x), call = rlang::caller_env()) {
-  if (!inherits(x, class)) {
-    abort_bayesbem(c("{.arg {arg}} must be a {.cls {class}}.",
-                     x = "It is {.obj_type_friendly {x}}."),
-                   "argument", call = call)
-  }
 }

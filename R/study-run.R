@@ -33,11 +33,11 @@ study_posteriors <- function(fits, key) {
   out
 }
 
-# CVRMSE/NMBE of each fit on its training data and on `holdout` (a data
-# frame with the output and the observable inputs), one row per (setting, set).
-study_metrics <- function(fits, key, holdout, ndraws) {
+# CVRMSE/NMBE of each fit on its training data and on the held-out
+# `newdata` and `obs`, one row per (setting, set).
+study_metrics <- function(fits, key, newdata, obs, ndraws) {
   rows <- lapply(names(fits), function(label) {
-    data.frame(setting = label, holdout_metrics(fits[[label]], holdout, ndraws))
+    data.frame(setting = label, held_out_metrics(fits[[label]], newdata, obs, ndraws))
   })
   out <- do.call(rbind, rows)
   names(out)[1] <- key

@@ -124,21 +124,3 @@ print_rounded <- function(df, digits) {
   print(df, row.names = FALSE)
 }
 
-# A function's arguments but those kept only as deprecated spellings
-# (default `deprecated()`), for messages that list what it takes.
-current_arguments <- function(fun) {
-  args <- formals(fun)
-  names(args)[!vapply(args, identical, logical(1), quote(deprecated()))]
-}
-
-# The first argument of a function that renamed it to `x` (bayesplot's
-# layout): the value given under the old name, with a deprecation warning,
-# else `x`. `x` is not touched when the old name was used.
-renamed_first <- function(x, old, fn, old_name) {
-  if (lifecycle::is_present(old)) {
-    lifecycle::deprecate_warn("0.1.0", sprintf("%s(%s)", fn, old_name), sprintf("%s(x)", fn))
-    return(old)
-  }
-  x
-}
-

@@ -1,6 +1,7 @@
 # Runs the test suite against the installed package and ends with one line
 # "N passed, N failed, N skipped" (expectations); exits 1 on any failure.
-# Usage, from the package root: Rscript tools/run-tests.R
+# Usage, from the package root: Rscript tools/run-tests.R [filter]
+# (`filter`: a regular expression on the test files' names, as testthat's).
 Sys.setenv(NOT_CRAN = "true")
 # report every failure (the progress reporter stops after 10 by default)
 options(testthat.progress.max_fails = Inf)
@@ -9,7 +10,9 @@ shared_eplus <- file.path("..", "shared", "energyplus")
 if (!nzchar(Sys.getenv("BAYESBEM_EPLUS")) && dir.exists(shared_eplus)) {
   Sys.setenv(BAYESBEM_EPLUS = normalizePath(shared_eplus))
 }
-results <- testthat::test_dir("tests/testthat", package = "bayesbem",
+filter <- commandArgs(trailingOnly = TRUE)[1]
+results <- testthat::test_dir("tests/testthat", filter = if (!is.na(filter)) filter,
+                              package = "bayesbem",
                               load_package = "installed", stop_on_failure = FALSE,
                               reporter = testthat::ProgressReporter$new(show_praise = FALSE))
 outcomes <- unlist(lapply(results, function(test) {

@@ -13,7 +13,7 @@ shared_fit <- local({
   function() {
     if (is.null(fit)) {
       fit <<- suppressWarnings(
-        calibrate(seb_field, seb_sim, chains = 2, iter = 1000, seed = 20180601, cores = 2,
+        calibrate(seb_field, seb_sim, chains = 2, iter = 1000, seed = test_seed(20180601), cores = 2,
                   control = list(adapt_delta = 0.9), refresh = 0,
                   predict_at = shared_predict_at()),
         classes = "bayesbem_warning_convergence")
@@ -37,7 +37,7 @@ two_output_fit <- local({
                                         infiltration_per_exterior_area = 8e-4),
                               noise_sd = c(electricity = 20, gas = 20), seed = 2)
       field <- field[!(field$output == "gas" & seq_len(nrow(field)) == 20), ]
-      fit <<- suppressWarnings(calibrate(field, runs, chains = 2, iter = 600, seed = 3,
+      fit <<- suppressWarnings(calibrate(field, runs, chains = 2, iter = 600, seed = test_seed(3),
                                          progress = FALSE))
     }
     fit

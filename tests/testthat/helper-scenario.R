@@ -30,7 +30,7 @@ linear_case <- local({
       ranges <- sim$parameters[sim$parameters$parameter %in% names(truth), ]
       runs <- simulate_design(sim, design_lhs(ranges, n = 15, seed = 1))
       fit <- suppressWarnings(
-        calibrate(koh_data(field, runs, scales = "identity"), chains = 2, iter = 1000, seed = 1,
+        calibrate(koh_data(field, runs, scales = "identity"), chains = 2, iter = 1000, seed = test_seed(1),
                   cores = 2, refresh = 0),
         classes = "bayesbem_warning_convergence")
       case <<- list(sim = sim, field = field, fit = fit)

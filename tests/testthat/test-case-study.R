@@ -5,7 +5,8 @@ test_that("run_case_study() prints the fit, its diagnostics and metrics, and sav
   expect_warning(
     expect_message(
       out <- capture.output(
-        fit <- run_case_study(chains = 1, iter = 200, cores = 1, plot_dir = dir)
+        fit <- run_case_study(chains = 1, iter = 200, seed = test_seed(2018), cores = 1,
+                              plot_dir = dir)
       ),
       "Plots saved"
     ),

@@ -26,14 +26,3 @@ test_that("bad designs get classed errors", {
   expect_error(design_lhs(bad, n = 5), class = "bayesbem_error_parameters")
   expect_snapshot(design_lhs(bad, n = 5), error = TRUE)
 })
-
-test_that("the old argument name params still works, with a deprecation warning", {
-  withr::local_options(lifecycle_verbosity = "warning")
-  expect_warning(old <- design_lhs(params = bem_parameters()[c(3, 12), ], n = 5, seed = 2),
-                 class = "lifecycle_warning_deprecated")
-  expect_equal(old, design_lhs(bem_parameters()[c(3, 12), ], n = 5, seed = 2))
-  expect_warning(bem_monthly(params = bem_parameters()$initial |>
-                               stats::setNames(bem_parameters()$parameter) |> as.list(),
-                             weather = epw_monthly(shipped_epw(2013))),
-                 class = "lifecycle_warning_deprecated")
-})

@@ -5,7 +5,7 @@ refine_case <- function() {
                             "infiltration_per_exterior_area"), ]
   runs <- simulate_design(sim, design_lhs(top, n = 10, seed = 2))
   field <- data.frame(y = seb_field$y, sim$x)
-  fit <- calibrate(field, runs, chains = 2, iter = 2000, seed = 7, cores = 2, refresh = 0)
+  fit <- calibrate(field, runs, chains = 2, iter = 2000, seed = test_seed(7), cores = 2, refresh = 0)
   list(sim = sim, fit = fit)
 }
 

@@ -17,7 +17,7 @@ test_that("check_convergence() reports every parameter and the sampler", {
 test_that("a deliberately short run gets a classed convergence warning", {
   skip_on_cran()
   expect_warning(
-    calibrate(seb_field, seb_sim, chains = 2, iter = 40, seed = 1, refresh = 0),
+    calibrate(seb_field, seb_sim, chains = 2, iter = 40, seed = test_seed(1), refresh = 0),
     class = "bayesbem_warning_convergence"
   )
 })
@@ -73,7 +73,7 @@ test_that("a fit that hits the maximum tree depth says so, and rstan's own warni
   skip_on_cran()
   warnings <- list()
   withCallingHandlers(
-    fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 100, seed = 1,
+    fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 100, seed = test_seed(1),
                      control = list(max_treedepth = 2)),
     warning = function(w) {
       warnings[[length(warnings) + 1L]] <<- w

@@ -5,8 +5,8 @@ test_that("extending the model with the true cause helps, measurably", {
   for (kind in names(terms)) {
     case <- synthetic_case(kind)
     ext <- synthetic_extension(kind, terms[[kind]])
-    cmp <- suppressWarnings(compare_fits(case$base, ext, holdout = case$holdout,
-                                         truth = synthetic_truth),
+    cmp <- suppressWarnings(compare_fits(case$base, ext, newdata = case$holdout,
+                                         obs = case$holdout$y, truth = synthetic_truth),
                             classes = "bayesbem_warning_extrapolation")
     expect_s3_class(cmp, "bayesbem_comparison")
     expect_gt(cmp$elpd$diff, 2 * cmp$elpd$se, label = kind)
@@ -36,7 +36,8 @@ test_that("on a correct simulator, extending the model brings no gain", {
   skip_on_cran()
   case <- synthetic_case("none")
   ext <- synthetic_extension("none", "occupancy")
-  cmp <- suppressWarnings(compare_fits(case$base, ext, holdout = case$holdout),
+  cmp <- suppressWarnings(compare_fits(case$base, ext, newdata = case$holdout,
+                                       obs = case$holdout$y),
                           classes = "bayesbem_warning_extrapolation")
   # no gain: an unneeded term costs a little predictive density, at most
   expect_lt(cmp$elpd$diff, 2 * cmp$elpd$se)

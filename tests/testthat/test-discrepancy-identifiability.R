@@ -55,7 +55,7 @@ test_that("a parameter held away from the truth by a specific prior is confounde
   priors <- koh_priors(tf = list(equipment_power_density = prior_normal(24, 0.05)))
   train <- case$field[-synthetic_held_out, c("y", "temp", "rh", "solar")]
   held <- suppressWarnings(
-    calibrate(train, case$base$data$sim, priors = priors, chains = 2, iter = 500, seed = 3,
+    calibrate(train, case$base$data$sim, priors = priors, chains = 2, iter = 500, seed = test_seed(3),
               refresh = 0),
     classes = "bayesbem_warning_convergence")
   x <- identifiability(held, ndraws = 60)

@@ -150,7 +150,7 @@ test_that("a basis fit of daily data converges near the truth", {
   # the default iterations, 1000 to adapt the dense metric and 2000 draws:
   # with 500 + 500 R-hat was 1.01 or more for 2 of 6 seeds, with 1000 + 1000
   # for none
-  fit <- suppressMessages(calibrate(problem$field, problem$runs, chains = 2, seed = 11,
+  fit <- suppressMessages(calibrate(problem$field, problem$runs, chains = 2, seed = test_seed(11),
                                     cores = 2, progress = FALSE))
   expect_equal(fit$settings$emulator, "basis")
   expect_equal(fit$settings[c("iter", "warmup")], list(iter = 3000L, warmup = 1000L))

@@ -4,9 +4,9 @@ test_that("chains run one per process give rstan's own multi-chain draws", {
   stan_data <- bayesbem:::koh_stan_data(d, koh_priors(), NULL, "grid")
   reference <- suppressWarnings(
     rstan::sampling(bayesbem:::stanmodels$koh_grid, data = stan_data, chains = 2, iter = 150,
-                    seed = 5, refresh = 0, control = list(adapt_delta = 0.9), cores = 1)
+                    seed = test_seed(5), refresh = 0, control = list(adapt_delta = 0.9), cores = 1)
   )
-  fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = 5, cores = 2,
+  fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = test_seed(5), cores = 2,
                                     control = list(adapt_delta = 0.9), minor_modes = "keep",
                                     modular = FALSE),
                           classes = "bayesbem_warning_convergence")
@@ -14,7 +14,7 @@ test_that("chains run one per process give rstan's own multi-chain draws", {
   # the chains' draws as minor_mode_chains() reads them
   single <- lapply(1:2, function(k) {
     suppressWarnings(rstan::sampling(bayesbem:::stanmodels$koh_grid, data = stan_data, chains = 1,
-                                     chain_id = k, iter = 150, seed = 5, refresh = 0,
+                                     chain_id = k, iter = 150, seed = test_seed(5), refresh = 0,
                                      control = list(adapt_delta = 0.9)))
   })
   expect_equal(unname(bayesbem:::chain_draws(single)), unname(as.array(reference)))
@@ -117,7 +117,7 @@ test_that("chains kept in a minor mode are reported in the message, summary and 
   messages <- list()
   w <- expect_warning(
     withCallingHandlers(
-      fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 150, seed = 5, cores = 2,
+      fit <- calibrate(seb_field, seb_sim, chains = 2, iter = 150, seed = test_seed(5), cores = 2,
                        modular = TRUE, control = list(adapt_delta = 0.9)),
       bayesbem_message_minor_modes = function(m) {
         messages[[length(messages) + 1L]] <<- conditionMessage(m)
@@ -142,7 +142,7 @@ test_that("restarted chains start from the main mode's draws and are reported", 
   sample_seb <- function(chain_id, ...) {
     suppressWarnings(rstan::sampling(bayesbem:::stanmodels$koh_grid,
                                      data = bayesbem:::koh_stan_data(d, koh_priors(), NULL, "grid"),
-                                     chains = 1, chain_id = chain_id, iter = 150, seed = 5,
+                                     chains = 1, chain_id = chain_id, iter = 150, seed = test_seed(5),
                                      refresh = 0, control = list(adapt_delta = 0.9), ...))
   }
   first <- sample_seb(1)
@@ -159,7 +159,7 @@ test_that("restarted chains start from the main mode's draws and are reported", 
   }, "bayesbem")
   withr::defer(utils::assignInNamespace("minor_mode_chains", judge, "bayesbem"))
   expect_message(
-    fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = 5, cores = 2,
+    fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = test_seed(5), cores = 2,
                                       control = list(adapt_delta = 0.9), modular = FALSE),
                             classes = "bayesbem_warning_convergence"),
     "Chain 2 was stuck in a minor mode .* run again from the draws of chain 1",
@@ -229,7 +229,7 @@ test_that("rstan's diagnostic warnings are told by the function that raised them
     rstan::sampling(bayesbem:::stanmodels$koh_grid,
                     data = bayesbem:::koh_stan_data(koh_data(seb_field, seb_sim), koh_priors(),
                                                     NULL, "grid"),
-                    chains = 2, iter = 30, seed = 1, refresh = 0)
+                    chains = 2, iter = 30, seed = test_seed(1), refresh = 0)
   )
   told <- logical()
   withCallingHandlers({
@@ -262,7 +262,7 @@ test_that("a chain whose process fails is a classed error", {
 test_that("a list of starting values gives each chain its own", {
   skip_on_cran()
   starts <- list(list(tf = c(0.2, 0.2, 0.2)), list(tf = c(0.8, 0.8, 0.8)))
-  fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 2, iter = 20, seed = 1,
+  fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 2, iter = 20, seed = test_seed(1),
                                     init = starts),
                           classes = "bayesbem_warning_convergence")
   expect_equal(lapply(fit$stanfit@inits, function(i) as.vector(i$tf)),

@@ -64,14 +64,14 @@ test_that("stage 1 finds the posterior mode of the emulator's hyperparameters", 
   skip_on_cran()
   d <- koh_data(seb_field, seb_sim)
   priors <- koh_priors()
-  emulator <- bayesbem:::fit_emulator(d, priors, seed = 3, on_failure = stop)
+  emulator <- bayesbem:::fit_emulator(d, priors, seed = test_seed(3), on_failure = stop)
   expect_named(emulator, c("beta_eta", "lambda_eta", "b", "lp", "searches"))
   expect_length(emulator$beta_eta, 6)
   expect_length(emulator$b, 7)
   expect_length(emulator$searches, 16)
   expect_equal(emulator$lp, max(emulator$searches))
   # the same mode from the same seed
-  expect_equal(bayesbem:::fit_emulator(d, priors, seed = 3, on_failure = stop), emulator)
+  expect_equal(bayesbem:::fit_emulator(d, priors, seed = test_seed(3), on_failure = stop), emulator)
   # the mode on the unconstrained scale: logit rho, log lambda, b
   model <- koh_model_for(bayesbem:::emulator_stan_data(d, priors), "koh_emulator")
   u <- c(stats::qlogis(exp(-emulator$beta_eta / 4)), log(emulator$lambda_eta), emulator$b)
@@ -89,7 +89,7 @@ test_that("stage 1 finds the posterior mode of the emulator's hyperparameters", 
 
 test_that("a modular fit reports its fixed emulator apart from the sampled parameters", {
   skip_on_cran()
-  fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = 8,
+  fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 2, iter = 300, seed = test_seed(8),
                                     cores = 2, control = list(adapt_delta = 0.9)),
                           classes = "bayesbem_warning_convergence")
   expect_true(fit$settings$modular)
@@ -118,7 +118,7 @@ test_that("modular and joint fits agree where the runs determine the emulator", 
   field <- simulate_field(lin, list(a = 1.2, b = 2.5), noise_sd = 0.3, seed = 3)
   runs <- simulate_design(lin, design_lhs(lin$parameters, n = 20, seed = 4))
   fits <- lapply(c(joint = FALSE, modular = TRUE), function(modular) {
-    suppressWarnings(calibrate(field, runs, chains = 2, iter = 1000, seed = 5, cores = 2,
+    suppressWarnings(calibrate(field, runs, chains = 2, iter = 1000, seed = test_seed(5), cores = 2,
                                modular = modular),
                      classes = "bayesbem_warning_convergence")
   })

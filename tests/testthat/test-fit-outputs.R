@@ -83,9 +83,9 @@ test_that("one output in a long table gives the one-output fit, draw for draw", 
   skip_on_cran()
   long_field <- cbind(output = "electricity", seb_field)
   long_sim <- cbind(output = "electricity", seb_sim)
-  one <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = 5,
+  one <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 1, iter = 300, seed = test_seed(5),
                                     progress = FALSE))
-  long <- suppressWarnings(calibrate(long_field, long_sim, chains = 1, iter = 300, seed = 5,
+  long <- suppressWarnings(calibrate(long_field, long_sim, chains = 1, iter = 300, seed = test_seed(5),
                                      progress = FALSE))
   expect_s3_class(long, "bayesbem_outputs_fit")
   expect_identical(posterior::as_draws_array(output_fit(long, "electricity")),

@@ -175,11 +175,11 @@ test_that("a failing Cholesky factor is named, with the fix", {
   sim[index, x] <- field[row(index), x]
   d <- koh_data(field, sim, grid_tol = 0)
   expect_false(is.null(d$grid))
-  expect_error(calibrate(d, priors = koh_priors(nugget = 0), chains = 1, iter = 20, seed = 1,
+  expect_error(calibrate(d, priors = koh_priors(nugget = 0), chains = 1, iter = 20, seed = test_seed(1),
                          refresh = 0),
                class = "bayesbem_error_cholesky")
   expect_snapshot(
-    calibrate(d, priors = koh_priors(nugget = 0), chains = 1, iter = 20, seed = 1, refresh = 0),
+    calibrate(d, priors = koh_priors(nugget = 0), chains = 1, iter = 20, seed = test_seed(1), refresh = 0),
     error = TRUE
   )
 })
@@ -219,7 +219,7 @@ test_that("control entries replace the defaults one by one", {
   expect_error(merge(list(0.9), basis), class = "bayesbem_error_argument")
   # what the fit records is the merged list
   withr::local_options(bayesbem.progress = FALSE)
-  fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 1, iter = 40, seed = 1,
+  fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 1, iter = 40, seed = test_seed(1),
                                     control = list(max_treedepth = 5), refresh = 0),
                           classes = "bayesbem_warning_convergence")
   expect_equal(fit$settings$control, list(adapt_delta = 0.99, max_treedepth = 5))
@@ -282,7 +282,7 @@ test_that("three years of bills with 30 runs converge with the defaults (a seede
   # (bench/RESULTS.md)
   problem <- bayesbem:::synthetic_problem(36, 30, 3)
   expect_equal(nrow(problem$field), 36)
-  fit <- calibrate(problem$field, problem$runs, seed = 4003, cores = 2)
+  fit <- calibrate(problem$field, problem$runs, seed = test_seed(4003), cores = 2)
   expect_true(fit$settings$modular)
   conv <- check_convergence(fit, warn = FALSE)
   expect_lt(max(conv$rhat), 1.01)

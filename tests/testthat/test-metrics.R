@@ -95,13 +95,3 @@ test_that("held-out periods without a measurement are left out", {
   expect_error(calibration_metrics(seb_fit, newdata = sim, obs = rep(NA_real_, 12)),
                class = "bayesbem_error_argument")
 })
-
-test_that("the old spelling of the time resolution still works, with a deprecation warning", {
-  withr::local_options(lifecycle_verbosity = "warning")
-  withr::local_seed(3)
-  new <- calibration_metrics(seb_fit, by = "day", ndraws = 20)
-  withr::local_seed(3)
-  expect_warning(old <- calibration_metrics(seb_fit, frequency = "daily", ndraws = 20),
-                 class = "lifecycle_warning_deprecated")
-  expect_equal(old, new)
-})

@@ -14,3 +14,13 @@ test_that("plot_savings_data() summarises the paired draws per period and in tot
   expect_error(plot_savings_data(seb_fit), class = "bayesbem_error_argument")
   expect_error(plot(s, bins = 3), class = "rlib_error_dots_nonempty")
 })
+
+# drawn from the shipped seb_fit with a fixed seed: the same on every machine
+test_that("plot_savings() draws", {
+  skip_if_not_installed("vdiffr")
+  withr::local_seed(5)
+  sim <- linear_seb_simulator()
+  s <- savings(seb_fit, sim, scenario(sim, scale = c(equipment_power_density = 0.7)),
+               ndraws = 8)
+  vdiffr::expect_doppelganger("savings", plot_savings(s))
+})

@@ -66,11 +66,17 @@ test_that("avoided energy is the adjusted baseline less the measured use", {
   tab <- a$table
   expect_equal(tab$avoided[1:12], colMeans(adjusted) - measured)
   expect_equal(tab$avoided[13], sum(tab$avoided[1:12]))
-  expect_equal(tab$measured[13], sum(measured))
+  expect_equal(tab$obs[13], sum(measured))
   expect_equal(a$fsu$fsu[1], (tab$upper[13] - tab$lower[13]) / 2 / tab$avoided[13])
   expect_output(print(a), "fractional savings uncertainty")
   expect_error(avoided_energy(seb_fit, sim, measured[1:5]), class = "bayesbem_error_argument")
   expect_error(avoided_energy(seb_fit, sim, rep(NA_real_, 12)), class = "bayesbem_error_argument")
+  # the discrepancy choice is predict_scenario()'s
+  withr::local_seed(8)
+  alone <- predict_scenario(seb_fit, sim, ndraws = 10, discrepancy = "none")$y
+  withr::local_seed(8)
+  expect_equal(avoided_energy(seb_fit, sim, measured, ndraws = 10, discrepancy = "none")$draws,
+               alone)
 })
 
 test_that("avoided energy leaves out the periods without a measurement", {

@@ -12,11 +12,6 @@ test_that("a run reports its errors file and its outputs from SQLite", {
   expect_equal(attr(monthly, "units"), "kWh")
   expect_error(eplus_output(run, "Electricity:Facility", by = "hour"),
                class = "bayesbem_error_eplus_output")
-  # the old spelling still works, with a deprecation warning
-  withr::local_options(lifecycle_verbosity = "warning")
-  expect_warning(old <- eplus_output(run, "Electricity:Facility", frequency = "Monthly"),
-                 class = "lifecycle_warning_deprecated")
-  expect_equal(old, monthly)
 })
 
 test_that("the errors file is parsed with continuation lines", {

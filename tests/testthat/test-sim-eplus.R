@@ -186,7 +186,7 @@ test_that("Morris screening, a Latin hypercube, calibration and the closed loop 
   table <- simulate_design(sim, design)
   expect_equal(nrow(table), 120)
   field <- data.frame(y = seb_field$y, sim$x)
-  fit <- suppressWarnings(calibrate(field, table, chains = 1, iter = 300, seed = 3, refresh = 0),
+  fit <- suppressWarnings(calibrate(field, table, chains = 1, iter = 300, seed = test_seed(3), refresh = 0),
                           classes = "bayesbem_warning_convergence")
   expect_setequal(summary(fit)$parameters$variable, top)
   check <- validate_emulator(fit, sim, ndraws = 4)
@@ -204,7 +204,7 @@ test_that("a zone temperature is calibrated by month and by day to a known truth
   runs <- simulate_design(sim, design)
   field <- simulate_field(sim, truth, noise_sd = 0.1, seed = 4)
   fit <- suppressWarnings(calibrate(field[c("y", "temp", "rh", "solar")], runs, chains = 2,
-                                    iter = 600, seed = 5, refresh = 0),
+                                    iter = 600, seed = test_seed(5), refresh = 0),
                           classes = "bayesbem_warning_convergence")
   s <- summary(fit)$parameters
   expect_true(s["equipment_gain", "q5"] <= 800 && s["equipment_gain", "q95"] >= 800)
@@ -217,7 +217,7 @@ test_that("a zone temperature is calibrated by month and by day to a known truth
   runs_d <- runs_d[rep(seq_len(365), 10) %in% days, ]
   field_d <- simulate_field(daily, truth, noise_sd = 0.2, seed = 6)[days, ]
   fit_d <- suppressWarnings(calibrate(field_d[c("y", "temp", "rh", "solar")], runs_d, chains = 2,
-                                      iter = 600, seed = 7, refresh = 0),
+                                      iter = 600, seed = test_seed(7), refresh = 0),
                             classes = "bayesbem_warning_convergence")
   s <- summary(fit_d)$parameters
   expect_true(s["equipment_gain", "q5"] <= 800 && s["equipment_gain", "q95"] >= 800)

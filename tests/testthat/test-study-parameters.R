@@ -4,7 +4,7 @@ test_that("a table study calibrates the first k ranked parameters", {
                "fan_total_efficiency")
   study <- suppressWarnings(
     study_parameters(seb_field, seb_sim, ranking = ranking, k = c(1, 3), chains = 2,
-                     iter = 600, cores = 2, seed = 4, refresh = 0),
+                     iter = 600, cores = 2, seed = test_seed(4), refresh = 0),
     classes = "bayesbem_warning_convergence")
   expect_s3_class(study, "bayesbem_parameter_study")
   expect_named(study$fits, c("k = 1", "k = 3"))
@@ -30,7 +30,8 @@ test_that("a simulator study designs and runs each k, others at initial values",
   ranking <- c("equipment_power_density", "lighting_power_density")
   study <- suppressWarnings(
     study_parameters(field, sim, ranking = ranking, k = 1:2, n_runs = 10, chains = 2,
-                     iter = 400, cores = 2, seed = 2, refresh = 0, holdout = field[1:3, ]),
+                     iter = 400, cores = 2, seed = test_seed(2), refresh = 0,
+                     newdata = field[1:3, ], obs = field$y[1:3]),
     classes = "bayesbem_warning_convergence")
   runs <- study$fits[["k = 1"]]$data$sim
   expect_equal(names(runs), c("eta", "temp", "rh", "solar", "equipment_power_density"))
@@ -60,7 +61,10 @@ test_that("bad rankings and k get classed errors", {
   expect_error(study_parameters(seb_field, seb_sim, k = 0), class = "bayesbem_error_argument")
   expect_error(study_parameters(seb_field, seb_sim, ranking = 1:3),
                class = "bayesbem_error_argument")
-  expect_error(study_parameters(seb_field, seb_sim, k = 1:3, holdout = seb_field[-2]),
+  expect_error(study_parameters(seb_field, seb_sim, k = 1:3, newdata = seb_field[-2],
+                                obs = seb_field$y),
                class = "bayesbem_error_columns")
+  expect_error(study_parameters(seb_field, seb_sim, k = 1:3, newdata = seb_field),
+               class = "bayesbem_error_argument")
   expect_error(plot_parameter_study(seb_fit), class = "bayesbem_error_argument")
 })

@@ -10,8 +10,9 @@ prior_study <- local({
     if (is.null(study)) {
       study <<- suppressWarnings(
         study_priors(seb_field[-seb_held_out, ], seb_sim, mu = seb_mu,
-                     holdout = seb_field[seb_held_out, ], chains = 2, iter = 600, cores = 2,
-                     seed = 3, refresh = 0),
+                     newdata = seb_field[seb_held_out, ],
+                     obs = seb_field$y[seb_held_out], chains = 2, iter = 600, cores = 2,
+                     seed = test_seed(3), refresh = 0),
         classes = "bayesbem_warning_convergence")
     }
     study
@@ -65,7 +66,7 @@ test_that("fits run through future and report progress", {
   skip_on_cran()
   skip_if_not_installed("future")
   one <- function() {
-    study_priors(seb_field, seb_sim, levels = "flat", chains = 1, iter = 200, seed = 5,
+    study_priors(seb_field, seb_sim, levels = "flat", chains = 1, iter = 200, seed = test_seed(5),
                  refresh = 0)
   }
   withr::local_options(progressr.enable = TRUE)
@@ -88,9 +89,11 @@ test_that("bad study arguments get classed errors", {
   expect_snapshot(study_priors(seb_field, seb_sim, levels = "specific",
                                mu = c(seb_mu[1:2], infiltration_per_exterior_area = 0.002)),
                   error = TRUE)
-  expect_error(study_priors(seb_field, seb_sim, holdout = seb_field[, -1], levels = "flat"),
+  expect_error(study_priors(seb_field, seb_sim, newdata = seb_field[, 1:2], obs = seb_field$y,
+                            levels = "flat"),
                class = "bayesbem_error_columns")
-  expect_error(study_priors(seb_field, seb_sim, holdout = seb_field[, 1:2], levels = "flat"),
-               class = "bayesbem_error_columns")
+  expect_error(study_priors(seb_field, seb_sim, newdata = seb_field, obs = seb_field$y[-1],
+                            levels = "flat"),
+               class = "bayesbem_error_argument")
   expect_error(plot_prior_study(seb_fit), class = "bayesbem_error_argument")
 })

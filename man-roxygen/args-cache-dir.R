@@ -1,0 +1,2 @@
+#' @param cache_dir Optional directory for cached simulator runs, see
+#'   [simulate_design()].

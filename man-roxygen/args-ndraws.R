@@ -1,0 +1,2 @@
+#' @param ndraws Number of posterior draws, evenly spaced over the chains;
+#'   `NULL` (the default) uses them all.

@@ -1,0 +1,11 @@
+test_that("plot_morris() draws mu* against sigma", {
+  skip_if_not_installed("sensitivity")
+  sim <- bem_simulator(shipped_epw(2013))
+  m <- screen_morris(sim, r = 5, seed = 3)
+  d <- plot_morris_data(m)
+  expect_named(d, c("parameter", "mu_star", "sigma", "rank"))
+  p <- plot_morris(m)
+  expect_s3_class(p, "ggplot")
+  skip_if_not_installed("vdiffr")
+  vdiffr::expect_doppelganger("morris", p)
+})
