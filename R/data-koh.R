@@ -43,12 +43,11 @@
 #' the others as they are. Runs left out, not the fit's residuals: for a
 #' parameter whose range reaches down to 0 (infiltration), such a scale
 #' puts the run nearest 0 far from all others, where a fit to every run
-#' matches it but the emulator has nothing to learn from. On the shipped
-#' case study and the 66 synthetic problems of the reliability benchmark
-#' it puts fan efficiency on the reciprocal scale in every one (0.15-0.78
-#' of the identity's error), and the other parameters on the identity
-#' except in two problems with 10 runs; see `bench/RESULTS.md` for what
-#' that does to convergence. `scales = "identity"` is the paper's model.
+#' matches it but the emulator has nothing to learn from. On the case
+#' study it puts fan efficiency, whose fan power goes as its reciprocal, on
+#' the reciprocal scale; what that does to convergence is measured in the
+#' package's benchmarks (`bench/RESULTS.md`, "Reliability").
+#' `scales = "identity"` is the paper's model.
 #'
 #' @section Several outputs: Field data and runs of several outputs (meters:
 #'   electricity and gas bills, say) come as long tables with a column

@@ -42,13 +42,9 @@ parameter_scales <- function(scales, t, x, eta, call = rlang::caller_env()) {
 # parameters) predicts each run left out, the other parameters as they are.
 # Runs left out rather than residuals: for a parameter whose range reaches
 # down to 0 (infiltration), the log or reciprocal scale puts the run
-# nearest 0 far from all others, a fit to every run matches that run alone
-# (0.71 of the identity's residual variance in one synthetic problem), and
-# the emulator then has one run at one end of the scale and the rest at the
-# other. Measured on the case study and the benchmark's 66 synthetic
-# problems (bench/RESULTS.md): fan efficiency's reciprocal predicts runs
-# with 0.15-0.78 of the identity's error; another parameter's scale gains a
-# fifth in two problems of 10 runs.
+# nearest 0 far from all others, a fit to every run matches that run alone,
+# and the emulator then has one run at one end of the scale and the rest at
+# the other (inst/notes/design.md, D3).
 auto_scales <- function(t, x, eta, gain = 0.2) {
   run <- row_groups(t)
   # every parameter as it is: the same for each parameter's comparison

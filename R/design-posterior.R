@@ -14,9 +14,8 @@
 #' posterior. With many field rows (a year of daily data) the posterior is
 #' narrow, and the emulator's error between the runs can hold it off the
 #' truth, e.g. at one end of a ridge of parameters that trade off. Runs over
-#' its region move it: in the benchmark (`bench/RESULTS.md`) one round of
-#' ten runs restored coverage at 120 days, two rounds at 365 days. Repeat
-#' while the posterior still moves.
+#' its region move it; repeat while the posterior still moves
+#' ([refine_emulator()] does).
 #'
 #' @param fit A `bayesbem_fit`.
 #' @param n Number of runs.

@@ -16,10 +16,9 @@
 #' may move the posterior, hence the loop.
 #'
 #' What it cannot mend: the runs go where the posterior is, so an emulator
-#' wrong where the truth lies is not corrected there. At 365 days x 30 runs
-#' a posterior held three to five sds along the fan / equipment ridge from
-#' the truth stayed there after a round of ten runs, and the check then
-#' trusted the emulator (`bench/RESULTS.md`). Where parameters trade off
+#' wrong where the truth lies is not corrected there: a posterior held
+#' along a ridge of parameters that trade off can stay there, and the check
+#' then trusts the emulator. Where parameters trade off
 #' (see [identifiability()]), add runs over the whole ridge as well, e.g.
 #' with [design_lhs()] over the prior ranges.
 #'

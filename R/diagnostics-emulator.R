@@ -23,10 +23,8 @@
 #' posterior sds of each parameter; `z` the median of `Delta` over its sd
 #' were the emulator's error as it states it, `s - m(tf) ~ N(0, S_e)`:
 #' `Delta ~ N(0, A J' S^-1 S_e S^-1 J A)`. An error small at every period
-#' can still move the calibration when it is alike over many periods: with
-#' a year of daily data and 30 runs the separable emulator's errors, below
-#' the noise, moved the calibration by about two posterior sds at a typical
-#' point where it stated a fifth of that (`bench/RESULTS.md`). An honest
+#' can still move the calibration when it is alike over many periods (a
+#' year of daily data: `bench/RESULTS.md`, "Emulator error"). An honest
 #' emulator's error moves the calibration too, by about its share of the
 #' posterior's spread, which the posterior already holds: the shift alone
 #' says nothing wrong, the shift beyond the stated error does. The check

@@ -9,10 +9,9 @@
 # maximum marginal likelihood; stage 2 (inst/stan/koh_basis.stan)
 # calibrates with them fixed. Why: the separable emulator gives its error
 # the outputs' shape across periods, one correlation in the parameters for
-# every component, and at 365 days that error moved the calibration by
-# about two of its sds while its stated uncertainty said a fifth of that;
-# components with their own length scales state an error of the right
-# size (bench/bench-basis-emulator.R, bench/RESULTS.md).
+# every component, which understates the error that moves the calibration
+# at a year of daily data; components with their own length scales state
+# it (bench/RESULTS.md, "Emulator error" and "Basis emulator").
 
 # Stage 1 of the basis emulator on a grid design: `mu`, the basis `B`,
 # `s2r`, the runs `tc` (scaled), the runs' weights `w` and one

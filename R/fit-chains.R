@@ -65,8 +65,8 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
 # (minor_mode_tf()). With `keep_moved` (stage 2 of a modular fit) chains
 # whose mode puts a calibration parameter outside the main mode's 90 %
 # interval are kept: with the emulator fixed, such a mode can be the
-# emulator's error between runs rather than the posterior's (measured at 120
-# and 365 days, bench/RESULTS.md: the truth lay between the modes), and R-hat
+# emulator's error between runs rather than the posterior's
+# (inst/notes/design.md, F8), and R-hat
 # then shows the disagreement instead of a confident wrong answer.
 settle_minor_modes <- function(draws, divergent, keep_moved = FALSE) {
   modes <- minor_mode_chains(draws, divergent)
@@ -127,13 +127,9 @@ chain_draws <- function(fits) {
 # similar mass are the posterior's, and check_convergence() reports them.
 # The minor chains are dropped when two chains remain to check each other;
 # when the best chain stands alone they are run again from its draws
-# instead, provided it had no divergent transition (`divergent`, per chain;
-# measured: with 30 runs at n = 36 one chain alone once outscored three,
-# with 36 effective draws and a divergent transition). The gap of 5 (a mode
-# under 0.7 % of the mass) is measured at 12 months (bench/RESULTS.md):
-# lone chains outscored three by 5.1-5.3 and by 30, and the three
-# restarted from them joined them (R-hat 1.53 to 1.002); chains in one
-# mode agree within 2.
+# instead, provided it had no divergent transition (`divergent`, per
+# chain). Why a gap of 5 (a mode under 0.7 % of the mass):
+# inst/notes/design.md, F8.
 minor_mode_chains <- function(draws, divergent = integer(dim(draws)[2]), gap = 5) {
   none <- list(drop = integer(0), restart = integer(0), from = NULL)
   if (dim(draws)[2] < 2L) {

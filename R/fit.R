@@ -143,8 +143,8 @@
 #'   n x n covariance of the field outputs. They are computed by Eigen, or
 #'   by R's LAPACK when R is linked to an optimised BLAS (OpenBLAS, MKL,
 #'   BLIS, ATLAS or Apple's Accelerate, told by the name of
-#'   `extSoftVersion()[["BLAS"]]`), which at 365 days halves the time of a
-#'   fit (`bench/RESULTS.md`, "Gradient cost"). To speed up such fits, link R to
+#'   `extSoftVersion()[["BLAS"]]`), which is faster at large n
+#'   (`bench/RESULTS.md`, "Gradient cost"). To speed up such fits, link R to
 #'   OpenBLAS, its serial build since the chains already share the cores
 #'   (on Debian or Ubuntu, `apt install libopenblas0-serial`).
 #'   A fit of more than 120 field rows on Eigen says so, once per session.
@@ -328,18 +328,20 @@ default_path <- function(data) {
   sprintf("the grid likelihood in two stages, the %s emulator", emulator)
 }
 
+# What a fit on the dense likelihood costs: seconds per gradient per
+# cubed row, and the gradients of a default fit (bench/RESULTS.md,
+# "Scaling", where both are measured).
+dense_cost <- c(seconds_per_cubed_row = 1.2e-9, gradients = 7e4)
+
 # Taking the dense likelihood because the runs are not a grid is slow
-# above a few hundred rows: say why, what it costs, how to avoid it. The
-# cost per gradient grows as N^3; its constant and the gradients of a
-# default fit are bench/RESULTS.md's "Scaling".
+# above a few hundred rows: say why, what it costs, how to avoid it.
 inform_dense <- function(data, structure, asked) {
   if (structure != "dense" || asked == "dense") {
     return(invisible())
   }
   rows <- data$n + data$m
-  seconds_per_gradient <- 1.2e-9 * rows^3
-  gradients_per_fit <- 7e4
-  hours <- gradients_per_fit * seconds_per_gradient / 3600
+  seconds <- dense_cost[["gradients"]] * dense_cost[["seconds_per_cubed_row"]] * rows^3
+  hours <- seconds / 3600
   if (hours < 0.1) {
     return(invisible())
   }
