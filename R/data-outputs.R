@@ -53,8 +53,9 @@ koh_data_outputs <- function(field, sim, output, args, call = rlang::caller_env(
   fields <- stats::setNames(lapply(outputs, function(k) split_rows(field, k)), outputs)
   sims <- stats::setNames(lapply(outputs, function(k) split_rows(sim, k)), outputs)
   one <- function(k, scales) {
-    with_output_context(k, call, do.call(koh_data, c(list(fields[[k]], sims[[k]]),
-                                                     utils::modifyList(args, list(scales = scales)))))
+    with_output_context(k, call, do.call(koh_data_one, c(list(fields[[k]], sims[[k]]),
+                                                         utils::modifyList(args, list(scales = scales)),
+                                                         list(call = call))))
   }
   # a first pass for the names and each output's own choice of scales (its
   # messages come again in the second)

@@ -217,17 +217,6 @@ posterior_runs <- function(fit, simulator, ndraws, cache_dir, call = rlang::call
        design = design)
 }
 
-# Every run failed: say why, with the simulator's own messages (the
-# distinct ones, first few), not only that they failed.
-abort_all_failed <- function(failed, call) {
-  reasons <- utils::head(unique(failed$error), 3)
-  reasons <- gsub("}", "}}", gsub("{", "{{", reasons, fixed = TRUE), fixed = TRUE)
-  abort_bayesbem(c("Every simulation run at the posterior draws failed.",
-                   stats::setNames(reasons, rep("x", length(reasons))),
-                   i = "Run the simulator at one draw with {.fn simulate_design} to see the whole message."),
-                 "simulation", call = call)
-}
-
 # The simulator's periods that are the fit's field rows, matched by the
 # observable inputs' values; the calibration parameters must be the
 # simulator's.

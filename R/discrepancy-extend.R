@@ -96,32 +96,6 @@ extend_outputs <- function(fit, with, covariates, sim, output, ..., call = rlang
   refit(fit, covariates = terms, ...)
 }
 
-# Calibrates again with the fit's data, priors and sampler settings; `...`
-# replaces any argument of calibrate().
-refit <- function(fit, ...) {
-  settings <- fit$settings
-  args <- list(field = fit$data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
-               warmup = settings$warmup, seed = settings$seed, control = settings$control,
-               structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
-               emulator = if (isTRUE(settings$modular)) settings$emulator %||% "separable" else "auto",
-               minor_modes = settings$minor_modes %||% "keep",
-               covariates = fit_covariates(fit))
-  # replaced whole, not merged: a new bayesbem_data or priors is a list too
-  changes <- list(...)
-  args[names(changes)] <- changes
-  do.call(calibrate, args)
-}
-
-# A fit's discrepancy terms as calibrate() takes them: a table, or on
-# several outputs a list of tables by output (those with terms).
-fit_covariates <- function(fit) {
-  if (!inherits(fit, "bayesbem_outputs_fit")) {
-    return(fit$data$covariates)
-  }
-  terms <- Filter(Negate(is.null), lapply(fit$data$outputs, `[[`, "covariates"))
-  if (length(terms) > 0L) terms
-}
-
 # The discrepancy terms of an extension: the fit's, plus `with` taken from
 # `covariates` or the observable inputs.
 extension_covariates <- function(data, with, covariates, call = rlang::caller_env()) {
@@ -148,58 +122,4 @@ extension_covariates <- function(data, with, covariates, call = rlang::caller_en
   old <- data$covariates
   added <- pool[, setdiff(with, names(old)), drop = FALSE]
   if (is.null(old)) added else cbind(old, added)
-}
-
-# Checks covariates of the discrepancy terms and adds them to `data`, divided
-# by their range (not centred, so that zero keeps its meaning): `h`
-# (n x n_h), `h_scale` and the raw `covariates`.
-add_discrepancy_terms <- function(data, covariates, call = rlang::caller_env()) {
-  if (is.null(covariates) || ncol(covariates) == 0L) {
-    data[c("covariates", "h", "h_scale")] <- list(NULL)
-    return(data)
-  }
-  covariates <- covariate_table(covariates, data$n, call = call)
-  check_numeric_complete(covariates, names(covariates), "covariates", call = call)
-  check_columns_vary(covariates, call = call)
-  h_scale <- vapply(covariates, function(v) diff(range(v)), numeric(1))
-  data$covariates <- covariates
-  data$h_scale <- h_scale
-  data$h <- sweep(as.matrix(covariates), 2, h_scale, "/")
-  data
-}
-
-# The matrix of discrepancy terms at the field rows (no columns when the fit
-# has none).
-discrepancy_design <- function(data) {
-  data$h %||% matrix(0, data$n, 0)
-}
-
-# `covariates` as a numeric table with one row per field row.
-covariate_table <- function(covariates, n, call = rlang::caller_env()) {
-  covariates <- as_numeric_table(covariates, "covariates", call = call)
-  if (nrow(covariates) != n) {
-    abort_bayesbem(c("{.arg covariates} must have one row per field row ({n}).",
-                     x = "It has {nrow(covariates)}."),
-                   "covariates", call = call)
-  }
-  covariates
-}
-
-# Every column of `d` must take more than one value over the field rows.
-check_columns_vary <- function(d, call = rlang::caller_env()) {
-  spread <- vapply(d, function(v) diff(range(v)), numeric(1))
-  check_varies(spread, names(d), "the field rows", call = call)
-}
-
-check_fit <- function(fit, arg = rlang::caller_arg(fit), call = rlang::caller_env()) {
-  if (inherits(fit, "bayesbem_outputs_fit")) {
-    abort_bayesbem(c("{.arg {arg}} is a fit on several outputs; this tool reads one output.",
-                     i = "Take one with {.code output_fit({arg}, \"{names(fit$outputs)[1]}\")}."),
-                   "argument", call = call)
-  }
-  if (!inherits(fit, "bayesbem_fit")) {
-    abort_bayesbem(c("{.arg {arg}} must be a {.cls bayesbem_fit} from {.fn calibrate}.",
-                     x = "It is {.obj_type_friendly {fit}}."),
-                   "argument", call = call)
-  }
 }

@@ -451,3 +451,29 @@ abort_sampling_failure <- function(data, nugget, structure, messages, call = rla
                    i = "Raise {.arg nugget} in {.fn koh_priors} (e.g. {.code koh_priors(nugget = 1e-4)}), or drop nearly identical rows."),
                  "cholesky", call = call)
 }
+
+# Calibrates again with the fit's data, priors and sampler settings; `...`
+# replaces any argument of calibrate().
+refit <- function(fit, ...) {
+  settings <- fit$settings
+  args <- list(field = fit$data, priors = fit$priors, chains = settings$chains, iter = settings$iter,
+               warmup = settings$warmup, seed = settings$seed, control = settings$control,
+               structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
+               emulator = if (isTRUE(settings$modular)) settings$emulator %||% "separable" else "auto",
+               minor_modes = settings$minor_modes %||% "keep",
+               covariates = fit_covariates(fit))
+  # replaced whole, not merged: a new bayesbem_data or priors is a list too
+  changes <- list(...)
+  args[names(changes)] <- changes
+  do.call(calibrate, args)
+}
+
+# A fit's discrepancy terms as calibrate() takes them: a table, or on
+# several outputs a list of tables by output (those with terms).
+fit_covariates <- function(fit) {
+  if (!inherits(fit, "bayesbem_outputs_fit")) {
+    return(fit$data$covariates)
+  }
+  terms <- Filter(Negate(is.null), lapply(fit$data$outputs, `[[`, "covariates"))
+  if (length(terms) > 0L) terms
+}

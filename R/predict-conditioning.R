@@ -1,29 +1,7 @@
-# Gaussian-process algebra of the KOH model in R, for prediction and
-# diagnosis. It mirrors inst/stan/include/koh_functions.stan: squared input
-# differences are computed once per data set, and each posterior draw only
-# weights and exponentiates them.
-
-# Per-column squared differences between the rows of a and b.
-sq_diffs <- function(a, b) {
-  lapply(seq_len(ncol(a)), function(k) outer(a[, k], b[, k], "-")^2)
-}
-
-# sum_k beta[k] * d[[k]]
-weighted_sum <- function(d, beta) {
-  out <- beta[1] * d[[1]]
-  for (k in seq_along(d)[-1]) out <- out + beta[k] * d[[k]]
-  out
-}
-
-# Equal-row indicators of a and b, the rows where the kernel jitter applies.
-eq_rows <- function(a, b) {
-  outer(row_keys(a), row_keys(b), "==") + 0
-}
-
-# Squared differences and equal-row indicators of the rows of a and b.
-pair_geometry <- function(a, b) {
-  list(d = sq_diffs(a, b), eq = eq_rows(a, b))
-}
+# Gaussian-process conditionals of the KOH model in R, for prediction and
+# diagnosis, on the kernels of R/fit-kernels.R: the joint law of (eta,
+# delta) at new inputs given the data, the field given the runs, and draws
+# of the model's parameters.
 
 # The geometry a fitted KOH model needs for its data and, optionally, for new
 # (scaled) observable inputs `x_new` at tf: pairs "ff" (field rows), "sf"
@@ -90,22 +68,6 @@ draw_subset <- function(total, ndraws) {
   unique(round(seq(1, total, length.out = ndraws)))
 }
 
-# t part of the squared distances from tf to every design row.
-tf_distance <- function(tc, tf, beta_t) {
-  colSums(beta_t * (t(tc) - as.vector(tf))^2)
-}
-
-# One factor of the emulator kernel with its jitter (koh_functions.stan's
-# jittered_cor()): exp(-sum_k beta[k] d2_k) + nugget where rows are equal.
-jittered_cor <- function(pair, beta, nugget) {
-  exp(-weighted_sum(pair$d, beta)) + nugget * pair$eq
-}
-
-# Squared-exponential covariance of the discrepancy.
-delta_cov <- function(pair, par) {
-  exp(-weighted_sum(pair$d, par$beta_delta)) / par$lambda_delta
-}
-
 # A draw's x weights, t weights and correlations k_t(tf, t_a) to the design.
 draw_geometry <- function(g, par) {
   x <- seq_len(g$p)
@@ -136,21 +98,6 @@ koh_sigma_z <- function(g, par, dg = draw_geometry(g, par)) {
 # which is what the Gaussian processes model.
 field_y <- function(g, par) {
   if (ncol(g$h) == 0L) g$y else g$y - drop(g$h %*% par$gamma)
-}
-
-# The emulator mean h(x, t)' b at rows x (scaled), all at the parameters t
-# (one row) or each at its own (a matrix): koh_functions.stan's
-# emulator_mean().
-emulator_mean <- function(x, t, coef) {
-  tc <- if (is.matrix(t)) t else matrix(t, nrow(x), length(t), byrow = TRUE)
-  drop(coef[1] + x %*% coef[1 + seq_len(ncol(x))] + tc %*% coef[-seq_len(1 + ncol(x))])
-}
-
-# The emulator mean on a grid, element (i, a) at grid input i and run a
-# (koh_functions.stan's grid_mean()).
-grid_mean <- function(x_grid, tc, coef) {
-  p <- ncol(x_grid)
-  outer(coef[1] + drop(x_grid %*% coef[1 + seq_len(p)]), drop(tc %*% coef[-seq_len(1 + p)]), "+")
 }
 
 # The geometry with the draw's emulator mean taken off the data (field

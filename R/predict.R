@@ -162,36 +162,3 @@ evaluation_sets <- function(fit, newdata, obs, call = rlang::caller_env()) {
   if (!is.null(newdata)) sets[["held-out"]] <- prediction_set(fit, newdata, obs, call = call)
   sets
 }
-
-# Checks new observable inputs, warns on extrapolation, and scales them.
-scale_newdata <- function(data, newdata, arg = "newdata", call = rlang::caller_env()) {
-  x_names <- data$names$x
-  if (!is.data.frame(newdata)) {
-    abort_bayesbem(c("{.arg {arg}} must be a data frame with columns {.field {x_names}}.",
-                     x = "It is {.obj_type_friendly {newdata}}."),
-                   "input_type", call = call)
-  }
-  missing <- setdiff(x_names, names(newdata))
-  if (length(missing) > 0L) {
-    abort_bayesbem(c("{.arg {arg}} has no column{?s} {.field {missing}}.",
-                     i = "It needs the observable inputs the model was calibrated on: {.field {x_names}}."),
-                   "columns", call = call)
-  }
-  if (nrow(newdata) < 1L) {
-    abort_bayesbem("{.arg {arg}} has no rows.", "too_few_rows", call = call)
-  }
-  check_numeric_complete(newdata, x_names, arg, call = call)
-  x <- as.matrix(newdata[x_names])
-  s <- data$scaling
-  # rounding (weather averaged apart from the fit's) is not extrapolation
-  slack <- 1e-8 * (s$x_max - s$x_min)
-  outside <- x_names[colSums(sweep(x, 2, s$x_min - slack, "<") |
-                               sweep(x, 2, s$x_max + slack, ">")) > 0]
-  if (length(outside) > 0L) {
-    warn_bayesbem(c("{.arg {arg}} is outside the range the model was calibrated on in {.field {outside}}.",
-                    i = "These predictions extrapolate the Gaussian processes; expect them to revert to the mean.",
-                    i = "For another period's weather, rerun the simulator there instead: {.fn predict_scenario}."),
-                  "extrapolation")
-  }
-  scale_x(x, s)
-}

@@ -206,21 +206,12 @@ emulator_mean_of <- function(priors) priors$emulator_mean %||% "zero"
 
 prior_set_of <- function(priors) priors$set %||% "paper"
 
-# The rate of the emulator precision's Gamma prior. The paper's Gamma(10,
-# 10) centres the emulator's variance on that of the standardised runs,
-# which a zero-mean emulator must carry; the "scaled" set centres it on
-# what the emulator mean leaves (equation: rate x v, v = residual sum of
-# squares of the least-squares fit of the runs on the mean's columns of
-# [1, x, t], over m - 1), so that v = 1 and the sets agree for a zero or
-# constant mean.
-lambda_eta_rate <- function(data, priors, b_select) {
-  rate <- priors$lambda_eta[2]
-  if (prior_set_of(priors) == "paper") {
-    return(rate)
+check_priors <- function(priors, call = rlang::caller_env()) {
+  if (!inherits(priors, "bayesbem_priors")) {
+    abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
+                     x = "It is {.obj_type_friendly {priors}}."),
+                   "prior", call = call)
   }
-  h <- cbind(1, data$xc, data$tc) %*% b_select
-  resid <- if (ncol(h) == 0L) data$eta else stats::lm.fit(h, data$eta)$residuals
-  rate * sum(resid^2) / (length(data$eta) - 1)
 }
 
 # Which columns of [1, x, t] the emulator mean uses: a (1 + p + q) x n_b
@@ -229,87 +220,4 @@ mean_selection <- function(priors, p, q) {
   all <- diag(1 + p + q)
   switch(emulator_mean_of(priors), zero = all[, 0, drop = FALSE],
          constant = all[, 1, drop = FALSE], linear = all)
-}
-
-# The data block of inst/stan/koh.stan (structure "dense") or koh_grid.stan
-# (structure "grid") for given data and priors. `x_pred`: scaled inputs
-# whose outputs Stan samples (the paper's Appendix D; dense only).
-koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
-                          call = rlang::caller_env()) {
-  prior_data <- koh_prior_data(data, priors, call = call)
-  if (structure == "grid") {
-    grid <- data$grid
-    return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = data$q, y = data$y,
-                  eta = grid_runs(data), x_grid = grid$x,
-                  tc = grid$design, lapack = as.integer(use_lapack(call))),
-             prior_data))
-  }
-  c(list(n = data$n, m = data$m, p = data$p, q = data$q,
-         y = data$y, eta = data$eta, xf = data$xf, xc = data$xc, tc = data$tc),
-    prior_data,
-    list(n_pred = NROW(x_pred),
-         x_pred = if (is.null(x_pred)) matrix(0, 0, data$p) else x_pred))
-}
-
-# The part of every program's data block that koh_prior_data.stan declares:
-# the tf priors on the [0, 1] scale of physical units (checked: each names a
-# parameter, its mean in the design range) with each parameter's scale for
-# the change of variables (tf_prior_lpdf() in koh_functions.stan), the
-# hyperpriors, the discrepancy terms and the emulator mean.
-koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
-  t_names <- data$names$t
-  unknown <- setdiff(names(priors$tf), t_names)
-  if (length(unknown) > 0L) {
-    abort_bayesbem(c("Prior{?s} given for {.field {unknown}}, which {?is not a/are not} calibration parameter{?s}.",
-                     i = "The calibration parameters are {.field {t_names}}."),
-                   "prior", call = call)
-  }
-  q <- data$q
-  is_normal <- mu <- numeric(q)
-  sd <- rep(1, q)
-  bounds <- t_bounds(data$scaling)
-  for (k in seq_len(q)) {
-    pr <- priors$tf[[t_names[k]]]
-    if (is.null(pr) || pr$family == "uniform") next
-    lo <- bounds$lower[[k]]
-    hi <- bounds$upper[[k]]
-    if (pr$mu < lo || pr$mu > hi) {
-      abort_bayesbem(c("The prior mean of {.field {t_names[k]}} must lie in its design range [{signif(lo, 4)}, {signif(hi, 4)}].",
-                       x = "It is {pr$mu}.",
-                       i = "Give {.arg mu} in the parameter's physical units, or widen the simulation design."),
-                     "prior", call = call)
-    }
-    is_normal[k] <- 1
-    mu[k] <- (pr$mu - lo) / (hi - lo)
-    sd[k] <- pr$sd
-  }
-  b_select <- mean_selection(priors, data$p, q)
-  list(
-    tf_is_normal = as.array(is_normal), tf_mu = as.array(mu), tf_sd = as.array(sd),
-    tf_scale = as.array(match(t_scales(data$scaling), names(scale_functions)) - 1),
-    tf_lo = as.array(unname(data$scaling$t_min)),
-    tf_span = as.array(unname(data$scaling$t_max - data$scaling$t_min)),
-    tf_v_lo = as.array(unname(bounds$lower)), tf_v_span = as.array(unname(bounds$upper - bounds$lower)),
-    rho_eta_a = priors$rho_eta[1], rho_eta_b = priors$rho_eta[2],
-    rho_delta_a = priors$rho_delta[1], rho_delta_b = priors$rho_delta[2],
-    lambda_eta_shape = priors$lambda_eta[1],
-    lambda_eta_rate = lambda_eta_rate(data, priors, b_select),
-    lambda_delta_shape = priors$lambda_delta[1], lambda_delta_rate = priors$lambda_delta[2],
-    lambda_e_shape = priors$lambda_e[1], lambda_e_rate = priors$lambda_e[2],
-    nugget = priors$nugget,
-    n_h = ncol(discrepancy_design(data)),
-    h = discrepancy_design(data),
-    gamma_sd = priors$gamma_sd %||% 1,
-    n_b = ncol(b_select),
-    b_select = b_select,
-    b_sd = priors$mean_sd %||% 1
-  )
-}
-
-check_priors <- function(priors, call = rlang::caller_env()) {
-  if (!inherits(priors, "bayesbem_priors")) {
-    abort_bayesbem(c("{.arg priors} must be made by {.fn koh_priors}.",
-                     x = "It is {.obj_type_friendly {priors}}."),
-                   "prior", call = call)
-  }
 }

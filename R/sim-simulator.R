@@ -213,3 +213,12 @@ design_settings <- function(sim, design, call = rlang::caller_env()) {
   base <- stats::setNames(as.list(table$initial), table$parameter)
   lapply(seq_len(nrow(design)), function(i) utils::modifyList(base, as.list(design[i, , drop = FALSE])))
 }
+
+check_simulator <- function(simulator, arg = rlang::caller_arg(simulator),
+                            call = rlang::caller_env()) {
+  if (!inherits(simulator, "bayesbem_simulator")) {
+    abort_bayesbem(c("{.arg {arg}} must be a simulator, not {describe_value(simulator)}.",
+                     i = "Make one with {.fn simulator}, {.fn bem_simulator} or {.fn eplus_simulator}."),
+                   "argument", call = call)
+  }
+}

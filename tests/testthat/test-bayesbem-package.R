@@ -48,3 +48,60 @@ test_that("the discrepancy choice and the number of draws are one idea each", {
   level <- vapply(defaults("level"), function(v) if (is.numeric(v)) v else NA_real_, numeric(1))
   expect_true(all(level[!is.na(level)] == 0.9))
 })
+
+# The package's R files in CONTRIBUTING's table of the workflow, in order,
+# and the shared ones (its first row); skipped where the tests run without
+# the sources beside them (R CMD check).
+workflow_files <- function() {
+  contributing <- file.path("..", "..", "CONTRIBUTING.md")
+  if (!file.exists(contributing) || !dir.exists(file.path("..", "..", "R"))) {
+    skip("the package sources are not beside the tests")
+  }
+  rows <- grep("^\\| [A-Za-z]", readLines(contributing), value = TRUE)
+  rows <- rows[grepl("`R/", rows, fixed = TRUE)]
+  files <- lapply(rows, function(row) {
+    m <- regmatches(row, gregexpr("`R/[^`]+\\.R`", row))[[1]]
+    gsub("`|R/", "", m)
+  })
+  list(order = unlist(files), shared = files[[1]])
+}
+
+# The functions each R file defines and the names its code uses (free
+# names of its functions; every name of its other top-level code).
+file_names <- function(path) {
+  defined <- character()
+  used <- character()
+  for (e in parse(path, keep.source = FALSE)) {
+    if (is.call(e) && identical(e[[1]], as.name("<-")) && is.name(e[[2]])) {
+      defined <- c(defined, as.character(e[[2]]))
+      value <- e[[3]]
+      used <- c(used, if (is.call(value) && identical(value[[1]], as.name("function"))) {
+        codetools::findGlobals(eval(value, baseenv()))
+      } else {
+        all.names(value)
+      })
+    } else {
+      used <- c(used, all.names(e))
+    }
+  }
+  list(defined = defined, used = unique(used))
+}
+
+test_that("every R file is in the workflow table and uses only files above it", {
+  flow <- workflow_files()
+  files <- basename(list.files(file.path("..", "..", "R"), pattern = "\\.R$"))
+  expect_setequal(flow$order, files)
+  names <- lapply(stats::setNames(file.path("..", "..", "R", flow$order), flow$order), file_names)
+  owner <- unlist(lapply(flow$order, function(f) {
+    stats::setNames(rep(f, length(names[[f]]$defined)), names[[f]]$defined)
+  }))
+  wrong <- unlist(lapply(flow$order, function(f) {
+    used <- intersect(names[[f]]$used, names(owner))
+    from <- owner[used]
+    later <- match(from, flow$order) > match(f, flow$order) & !from %in% flow$shared
+    unshared <- f %in% flow$shared & !from %in% flow$shared
+    bad <- from[later | unshared]
+    if (length(bad) > 0L) sprintf("%s uses %s() of %s", f, names(bad), bad)
+  }))
+  expect_identical(wrong, NULL)
+})

@@ -76,35 +76,6 @@ convergence_rows <- function(fit) {
   s[!s$variable %in% fixed_variables(fit), , drop = FALSE]
 }
 
-# The names of the emulator's hyperparameters in the convergence table: its
-# correlation parameters, variance and mean coefficients.
-emulator_variables <- function(fit) {
-  names <- emulator_draw_names(fit$data, mean_term_names(fit$priors, fit$data))
-  c(names$beta_eta, "lambda_eta", names$b)
-}
-
-# The variables a fit holds fixed rather than samples: a modular fit's
-# emulator hyperparameters, at their stage-1 mode.
-fixed_variables <- function(fit) {
-  if (is.null(fit$emulator)) character() else emulator_variables(fit)
-}
-
-# The sampler's problems in a fit (stage 2 of a modular fit, whose stage 1
-# is a mode search).
-fit_sampler_diagnostics <- function(fit) sampler_diagnostics(fit$stanfit)
-
-sampler_diagnostics <- function(stanfit) {
-  sp <- rstan::get_sampler_params(stanfit, inc_warmup = FALSE)
-  max_td <- stanfit@stan_args[[1]]$control$max_treedepth %||% 10
-  list(divergent = sum(vapply(sp, function(s) sum(s[, "divergent__"]), numeric(1))),
-       treedepth_hits = sum(vapply(sp, function(s) sum(s[, "treedepth__"] >= max_td), numeric(1))),
-       max_treedepth = max_td,
-       ebfmi = vapply(sp, function(s) {
-         e <- s[, "energy__"]
-         sum(diff(e)^2) / sum((e - mean(e))^2)
-       }, numeric(1)))
-}
-
 warn_convergence <- function(conv) {
   th <- attr(conv, "thresholds")
   sp <- attr(conv, "sampler")

@@ -1,0 +1,100 @@
+# The candidate causes explain_discrepancy() scores: the inputs and
+# covariates, their regions (steps and one-sided effects at quantile cuts)
+# and a named region's cut refined to the data's gap.
+
+# The observable inputs and the covariates, checked.
+explanation_candidates <- function(data, covariates, call = rlang::caller_env()) {
+  candidates <- data$field[data$names$x]
+  if (!is.null(covariates)) {
+    covariates <- covariate_table(covariates, data$n, call = call)
+    check_numeric_complete(covariates, names(covariates), "covariates", call = call)
+    clash <- intersect(names(covariates), names(candidates))
+    if (length(clash) > 0L) {
+      abort_bayesbem("{.arg covariates} repeats the observable input{?s} {.field {clash}}; rename or drop {?it/them}.",
+                     "columns", call = call)
+    }
+    candidates <- cbind(candidates, covariates)
+  }
+  check_columns_vary(candidates, call = call)
+  candidates
+}
+
+# One basis per candidate: linear and quadratic terms (standardised), or a
+# linear term for a two-valued candidate such as a step at a date.
+main_terms <- function(candidates) {
+  lapply(candidates, function(v) {
+    u <- (v - mean(v)) / stats::sd(v)
+    if (length(unique(u)) > 2L) cbind(u, u^2) else cbind(u)
+  })
+}
+
+# Effects that act in part of an input's range, at the thresholds `c` of
+# each observable input `b` (region_cuts()): a step where b passes c, "b >
+# c", and for each other candidate `a`, its effect only on one side, "a,
+# where b < c" (a there, 0 elsewhere: not centred, so a gain that only acts
+# there, such as solar gains in cold months, is one term). Each term is
+# computed from its name by region_values(), in the units of `a`, so that
+# extend() and predict() rebuild it from the name alone.
+region_terms <- function(candidates, inputs) {
+  labels <- unlist(lapply(names(inputs), function(b) {
+    lapply(region_cuts(inputs[[b]]), function(cut) {
+      others <- setdiff(names(candidates), b)
+      c(region_label("", b, ">", cut),
+        region_label(rep(others, 2), b, rep(c("<", ">"), each = length(others)), cut))
+    })
+  }))
+  stats::setNames(lapply(labels, function(l) cbind(region_values(l, candidates))), labels)
+}
+
+# The thresholds of one input: at each quartile, tertile and median, the
+# shortest decimal that splits the values as the quantile does (so that a
+# region's name defines it exactly), with at least 5 rows on each side.
+region_cuts <- function(x) {
+  values <- sort(unique(x))
+  if (length(values) < 3L) {
+    return(numeric(0))
+  }
+  cuts <- vapply(stats::quantile(x, c(1, 1.5, 2, 2.5, 3) / 4, names = FALSE), function(q) {
+    short_cut(max(values[values <= q]), min(values[values > q], Inf))
+  }, numeric(1))
+  supported_cuts(x, unique(cuts))
+}
+
+# The shortest decimal c with lower <= c < upper (NA when upper is Inf or
+# none of 15 digits splits the two).
+short_cut <- function(lower, upper) {
+  short <- signif((lower + upper) / 2, seq_len(15))
+  short[short >= lower & short < upper][1]
+}
+
+# The finite cuts with at least 5 rows on each side.
+supported_cuts <- function(x, cuts) {
+  cuts <- cuts[is.finite(cuts)]
+  cuts[vapply(cuts, function(cut) min(sum(x > cut), sum(x <= cut)) >= 5L, logical(1))]
+}
+
+# A named region with its cut moved to where the data put the edge: the
+# candidate cuts are a coarse grid (few terms keep the test's power), and
+# an effect's edge usually lies between them, so that the grid's cut
+# leaves some rows on the wrong side. Among the splits between consecutive
+# values of the input (short_cut()) from half-way to the grid's lower
+# neighbour to half-way to its upper one (so no two grid cuts refine to
+# the same), the one whose term explains the most of the residual beyond
+# recalibration (`free`, made orthogonal to `nuisance`).
+refine_region <- function(name, candidates, free, nuisance) {
+  parts <- parse_region(name)
+  x <- candidates[[parts$input]]
+  grid <- region_cuts(x)
+  below <- max(c(-Inf, grid[grid < parts$cut]))
+  above <- min(c(Inf, grid[grid > parts$cut]))
+  values <- sort(unique(x))
+  cuts <- mapply(short_cut, values[-length(values)], values[-1])
+  cuts <- supported_cuts(x, cuts[cuts > (below + parts$cut) / 2 & cuts <= (parts$cut + above) / 2])
+  if (length(cuts) < 2L) {
+    return(name)
+  }
+  labels <- region_label(parts$effect, parts$input, parts$side, cuts)
+  explained <- vapply(labels, function(l) free_r_squared(region_values(l, candidates), free, nuisance),
+                      numeric(1))
+  labels[which.max(explained)]
+}

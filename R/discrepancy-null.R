@@ -1,0 +1,167 @@
+# What chance and recalibration produce (explain_discrepancy()): the
+# residual given the runs, the null residuals simulated from the fitted
+# model, the recalibration basis projected out, each term's standardised
+# score, the max-statistic p-values and the cross-validated gain.
+
+# For one draw: the field outputs' residual from the emulator's mean given
+# the runs (standardised, less any parametric discrepancy terms), and the
+# parts of its covariance without a discrepancy: the emulator's uncertainty
+# given the runs and the noise variance.
+residual_given_runs <- function(g, par) {
+  rg <- residual_geometry(g, par)
+  fm <- field_given_runs(rg, par)
+  noise <- 1 / par$lambda_e
+  emulator <- fm$cov - delta_cov(g$ff, par)
+  diag(emulator) <- diag(emulator) - noise
+  list(residual = field_y(rg, par) - fm$mean, emulator = emulator, noise = noise)
+}
+
+# How much the emulator understates its own error: the mean squared
+# standardised error of each simulation run predicted from the others
+# (leave one run out, at all its inputs), over up to 20 draws; 1 for a
+# calibrated emulator, never below 1. Grid designs use the Kronecker form
+# (the run's column of E given the other columns); others the precision
+# matrix of the runs (block of each run's rows).
+emulator_inflation <- function(g, pars) {
+  pars <- pars[draw_subset(length(pars), 20L)]
+  kappa <- vapply(pars, function(par) {
+    rg <- residual_geometry(g, par)
+    dg <- draw_geometry(rg, par)
+    kt <- jittered_cor(rg$tt, dg$bt, par$nugget)
+    if (rg$structure == "grid") {
+      r_x <- chol(jittered_cor(rg$xx, dg$bx, par$nugget) / par$lambda_eta)
+      z2 <- vapply(seq_len(ncol(rg$E)), function(a) {
+        w <- solve(kt[-a, -a], kt[-a, a])
+        r <- backsolve(r_x, rg$E[, a] - drop(rg$E[, -a] %*% w), transpose = TRUE)
+        mean(r^2) / (kt[a, a] - sum(kt[-a, a] * w))
+      }, numeric(1))
+      return(mean(z2))
+    }
+    q <- chol2inv(chol(jittered_cor(rg$cc, dg$bx, par$nugget) * kt / par$lambda_eta))
+    qe <- drop(q %*% rg$eta)
+    runs <- split(seq_along(rg$eta), row_keys(rg$tc))
+    mean(unlist(lapply(runs, function(a) {
+      # leave-block-out error e = Q_AA^-1 (Q eta)_A, covariance Q_AA^-1
+      r_a <- chol(q[a, a, drop = FALSE])
+      (drop(r_a %*% solve(q[a, a, drop = FALSE], qe[a])))^2
+    })))
+  }, numeric(1))
+  max(1, mean(kappa))
+}
+
+# What recalibration can do to the output at the field rows (n columns of
+# a basis): a constant, the covariance of the eta draws (S x n) with each
+# column of the centred tf draws (S x q), and then with their squares and
+# products, while the basis has at most n / 3 columns. The first-order
+# columns span the regression slopes of eta on tf without inverting the
+# (often near-singular) tf covariance; the second-order ones, the output's
+# curvature in the parameters (measured: an equipment or infiltration
+# error moves heating and cooling months differently, so a linear
+# correction leaves a step at the regime switch, which region terms then
+# named in 6 of 19 data sets without a hidden effect).
+recalibration_basis <- function(eta, tf) {
+  centre <- function(m) sweep(m, 2, colMeans(m))
+  tf <- centre(tf)
+  q <- ncol(tf)
+  pairs <- which(upper.tri(diag(q), diag = TRUE), arr.ind = TRUE)
+  pairs <- pairs[order(pairs[, "row"] != pairs[, "col"]), , drop = FALSE]
+  second <- tf[, pairs[, 1], drop = FALSE] * tf[, pairs[, 2], drop = FALSE]
+  features <- cbind(tf, centre(second))
+  keep <- seq_len(max(q, min(ncol(features), floor(ncol(eta) / 3) - 1L)))
+  cbind(1, crossprod(centre(eta), features[, keep, drop = FALSE]))
+}
+
+# Share of the residual variance a term explains beyond recalibration
+# (partial R^2 given the QR-decomposed `nuisance` basis): per draw (rows of
+# `residual`), summarised by mean and interval; for the posterior mean
+# residual against the simulated null residuals (columns of `null`), the
+# standardised excess `z` = (R^2 - null mean) / null sd, and the null
+# residuals' own standardised values (for the max-statistic adjustment).
+term_scores <- function(b, residual, nuisance, null, level) {
+  free_b <- qr.resid(nuisance, b)
+  # a column inside the recalibration span is all rounding error: drop it
+  free_b <- free_b[, sqrt(colSums(free_b^2)) > 1e-8 * sqrt(colSums(b^2)), drop = FALSE]
+  r_squared <- function(r) {
+    if (ncol(free_b) == 0L) {
+      return(rep(0, NCOL(r)))
+    }
+    fitted <- qr.fitted(qr(free_b), r)
+    colSums(as.matrix(fitted)^2) / colSums(as.matrix(r)^2)
+  }
+  free <- qr.resid(nuisance, t(residual))
+  shares <- r_squared(free)
+  reference <- r_squared(qr.resid(nuisance, null))
+  spread <- max(stats::sd(reference), .Machine$double.eps)
+  z <- (r_squared(rowMeans(free)) - mean(reference)) / spread
+  interval <- stats::quantile(shares, c((1 - level) / 2, (1 + level) / 2), names = FALSE)
+  list(summary = data.frame(share = mean(shares), lower = interval[1], upper = interval[2], z = z),
+       null_z = (reference - mean(reference)) / spread, shares = shares)
+}
+
+# R^2 of the posterior mean residual beyond recalibration (`free`, already
+# orthogonal to `nuisance`) by the columns of `b`, made orthogonal too.
+free_r_squared <- function(b, free, nuisance) {
+  b <- qr.resid(nuisance, cbind(b))
+  sum(qr.fitted(qr(b), free)^2) / sum(free^2)
+}
+
+# Sum of squared leave-one-out errors of the least squares fit of r on the
+# columns of x; Inf when a row is fitted exactly (leverage 1).
+press <- function(x, r) {
+  q <- qr(x)
+  h <- rowSums(qr.Q(q)[, seq_len(q$rank), drop = FALSE]^2)
+  if (any(h > 1 - 1e-8)) return(Inf)
+  sum((qr.resid(q, r) / (1 - h))^2)
+}
+
+# How much better the posterior mean residual is predicted out of sample
+# with the term than by recalibration alone: 1 - PRESS(basis, b) /
+# PRESS(basis), PRESS the sum of squared leave-one-out errors of the least
+# squares fit, e_i / (1 - h_ii). Positive when the term predicts left-out
+# rows (a term that only fits noise, or a few rows, makes PRESS larger).
+cv_gain <- function(r, basis, b, baseline = press(basis, r)) {
+  1 - press(cbind(basis, b), r) / baseline
+}
+
+# The share of alpha each family of terms gets when regions are tried: the
+# main terms keep most of it; the many region terms, whose null is the
+# less certain (the emulator's error at a regime switch is step-shaped and
+# not in it), a fifth (chosen by measurement, bench/RESULTS.md).
+region_weights <- c(main = 0.8, region = 0.2)
+
+# Adjusted p-values: within each family of terms, the max-statistic
+# adjustment of Westfall and Young (a term's standardised R^2 `z` against
+# the largest over the family's terms in each null residual), divided by
+# the family's share of alpha (weighted Bonferroni across families), so
+# that naming terms with p < alpha keeps the family-wise error rate at
+# alpha over all terms.
+adjusted_p_values <- function(scores, family, weights) {
+  z <- vapply(scores, function(s) s$summary$z, numeric(1))
+  p <- numeric(length(z))
+  for (f in unique(family)) {
+    in_f <- family == f
+    null_max <- do.call(pmax, lapply(scores[in_f], `[[`, "null_z"))
+    exceed <- vapply(z[in_f], function(v) sum(null_max >= v), numeric(1))
+    p[in_f] <- pmin(1, (1 + exceed) / (length(null_max) + 1) / weights[[f]])
+  }
+  p
+}
+
+# The smallest adjusted p-value of a family is 1 / (n_null + 1) / weight
+# (adjusted_p_values()); with fewer null residuals than make it fall below
+# alpha, no term of that family could ever be named.
+check_null_size <- function(n_null, alpha, weights, call = rlang::caller_env()) {
+  share <- min(weights)
+  needed <- floor(1 / (alpha * share) - 1 + 1e-8) + 1
+  if (n_null >= needed) {
+    return(invisible(n_null))
+  }
+  hint <- if (length(weights) > 1) {
+    c(i = "Regions get {share} of {.arg alpha}: an adjusted p-value is at least 1 / ({.arg n_null} + 1) / {share}.",
+      i = "Increase {.arg n_null}, or set {.code regions = FALSE}.")
+  } else {
+    c(i = "An adjusted p-value is at least 1 / ({.arg n_null} + 1).", i = "Increase {.arg n_null}.")
+  }
+  abort_bayesbem(c("{.arg n_null} must be at least {needed} for a term to pass {.arg alpha} = {alpha}, not {n_null}.",
+                   hint), "argument", call = call)
+}

@@ -1,0 +1,267 @@
+# Every data list and starting-value list the Stan programs take: the
+# joint programs (koh.stan, koh_grid.stan), stage 1 (koh_emulator.stan)
+# and stage 2 (koh_modular.stan, koh_basis.stan), one output or several.
+
+# The data block of inst/stan/koh.stan (structure "dense") or koh_grid.stan
+# (structure "grid") for given data and priors. `x_pred`: scaled inputs
+# whose outputs Stan samples (the paper's Appendix D; dense only).
+koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
+                          call = rlang::caller_env()) {
+  prior_data <- koh_prior_data(data, priors, call = call)
+  if (structure == "grid") {
+    grid <- data$grid
+    return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = data$q, y = data$y,
+                  eta = grid_runs(data), x_grid = grid$x,
+                  tc = grid$design, lapack = as.integer(use_lapack(call))),
+             prior_data))
+  }
+  c(list(n = data$n, m = data$m, p = data$p, q = data$q,
+         y = data$y, eta = data$eta, xf = data$xf, xc = data$xc, tc = data$tc),
+    prior_data,
+    list(n_pred = NROW(x_pred),
+         x_pred = if (is.null(x_pred)) matrix(0, 0, data$p) else x_pred))
+}
+
+# The part of every program's data block that koh_prior_data.stan declares:
+# the tf priors on the [0, 1] scale of physical units (checked: each names a
+# parameter, its mean in the design range) with each parameter's scale for
+# the change of variables (tf_prior_lpdf() in koh_functions.stan), the
+# hyperpriors, the discrepancy terms and the emulator mean.
+koh_prior_data <- function(data, priors, call = rlang::caller_env()) {
+  t_names <- data$names$t
+  unknown <- setdiff(names(priors$tf), t_names)
+  if (length(unknown) > 0L) {
+    abort_bayesbem(c("Prior{?s} given for {.field {unknown}}, which {?is not a/are not} calibration parameter{?s}.",
+                     i = "The calibration parameters are {.field {t_names}}."),
+                   "prior", call = call)
+  }
+  q <- data$q
+  is_normal <- mu <- numeric(q)
+  sd <- rep(1, q)
+  bounds <- t_bounds(data$scaling)
+  for (k in seq_len(q)) {
+    pr <- priors$tf[[t_names[k]]]
+    if (is.null(pr) || pr$family == "uniform") next
+    lo <- bounds$lower[[k]]
+    hi <- bounds$upper[[k]]
+    if (pr$mu < lo || pr$mu > hi) {
+      abort_bayesbem(c("The prior mean of {.field {t_names[k]}} must lie in its design range [{signif(lo, 4)}, {signif(hi, 4)}].",
+                       x = "It is {pr$mu}.",
+                       i = "Give {.arg mu} in the parameter's physical units, or widen the simulation design."),
+                     "prior", call = call)
+    }
+    is_normal[k] <- 1
+    mu[k] <- (pr$mu - lo) / (hi - lo)
+    sd[k] <- pr$sd
+  }
+  b_select <- mean_selection(priors, data$p, q)
+  list(
+    tf_is_normal = as.array(is_normal), tf_mu = as.array(mu), tf_sd = as.array(sd),
+    tf_scale = as.array(match(t_scales(data$scaling), names(scale_functions)) - 1),
+    tf_lo = as.array(unname(data$scaling$t_min)),
+    tf_span = as.array(unname(data$scaling$t_max - data$scaling$t_min)),
+    tf_v_lo = as.array(unname(bounds$lower)), tf_v_span = as.array(unname(bounds$upper - bounds$lower)),
+    rho_eta_a = priors$rho_eta[1], rho_eta_b = priors$rho_eta[2],
+    rho_delta_a = priors$rho_delta[1], rho_delta_b = priors$rho_delta[2],
+    lambda_eta_shape = priors$lambda_eta[1],
+    lambda_eta_rate = lambda_eta_rate(data, priors, b_select),
+    lambda_delta_shape = priors$lambda_delta[1], lambda_delta_rate = priors$lambda_delta[2],
+    lambda_e_shape = priors$lambda_e[1], lambda_e_rate = priors$lambda_e[2],
+    nugget = priors$nugget,
+    n_h = ncol(discrepancy_design(data)),
+    h = discrepancy_design(data),
+    gamma_sd = priors$gamma_sd %||% 1,
+    n_b = ncol(b_select),
+    b_select = b_select,
+    b_sd = priors$mean_sd %||% 1
+  )
+}
+
+# The rate of the emulator precision's Gamma prior. The paper's Gamma(10,
+# 10) centres the emulator's variance on that of the standardised runs,
+# which a zero-mean emulator must carry; the "scaled" set centres it on
+# what the emulator mean leaves (equation: rate x v, v = residual sum of
+# squares of the least-squares fit of the runs on the mean's columns of
+# [1, x, t], over m - 1), so that v = 1 and the sets agree for a zero or
+# constant mean.
+lambda_eta_rate <- function(data, priors, b_select) {
+  rate <- priors$lambda_eta[2]
+  if (prior_set_of(priors) == "paper") {
+    return(rate)
+  }
+  h <- cbind(1, data$xc, data$tc) %*% b_select
+  resid <- if (ncol(h) == 0L) data$eta else stats::lm.fit(h, data$eta)$residuals
+  rate * sum(resid^2) / (length(data$eta) - 1)
+}
+
+# Stage 1 on at most `max_inputs` of the grid inputs (evenly spaced over the
+# field inputs, then the further ones): the length scales of x are learnt
+# from a few dozen inputs as well as from hundreds, at a fraction of the cost.
+emulator_rows <- function(grid, max_inputs = 60L) {
+  if (grid$n_x <= max_inputs) {
+    return(seq_len(grid$n_x))
+  }
+  unique(round(seq(1, grid$n_x, length.out = max_inputs)))
+}
+
+# The data of koh_emulator.stan: the grid program's, on emulator_rows() of the
+# grid inputs (the field outputs are not used).
+emulator_stan_data <- function(data, priors) {
+  stan_data <- koh_stan_data(data, priors, structure = "grid")
+  rows <- emulator_rows(data$grid)
+  stan_data$n_x <- length(rows)
+  stan_data$eta <- stan_data$eta[rows, , drop = FALSE]
+  stan_data$x_grid <- stan_data$x_grid[rows, , drop = FALSE]
+  stan_data
+}
+
+# The data every stage-2 program takes, for one output or several (`data` a
+# bayesbem_data or bayesbem_outputs object, `emulator` its stage-1 emulator
+# or their list): the field data stacked by output (each on its own
+# scaling), the runs' design they share, the priors, the discrepancy terms
+# of each output in its own columns (zero in the others' rows), and the
+# separable stage-1 emulators, one column each (koh_basis.stan passes them
+# through for predictions).
+stage2_stan_data <- function(data, priors, emulator) {
+  outputs <- output_data(data)
+  emulators <- output_emulators(data, emulator)
+  first <- outputs[[1]]
+  prior <- koh_prior_data(first, priors)
+  prior$h <- block_diagonal(lapply(outputs, discrepancy_design))
+  prior$n_h <- ncol(prior$h)
+  c(list(n = sum(vapply(outputs, `[[`, integer(1), "n")), mt = first$grid$mt, p = first$p,
+         q = first$q, y = unlist(lapply(outputs, `[[`, "y")),
+         xf = do.call(rbind, lapply(outputs, function(d) d$grid$x[seq_len(d$n), , drop = FALSE])),
+         tc = first$grid$design, K = length(outputs),
+         output = as.array(rep(seq_along(outputs), vapply(outputs, `[[`, integer(1), "n"))),
+         lapack = as.integer(use_lapack())),
+    prior,
+    list(beta_eta_fixed = emulator_columns(emulators, "beta_eta"),
+         lambda_eta_fixed = as.array(vapply(emulators, `[[`, numeric(1), "lambda_eta")),
+         b_fixed = emulator_columns(emulators, "b")))
+}
+
+# The one-output data sets of a data set, and their stage-1 emulators in the
+# same order.
+output_data <- function(data) {
+  if (inherits(data, "bayesbem_outputs")) data$outputs else list(data)
+}
+
+output_emulators <- function(data, emulator) {
+  if (inherits(data, "bayesbem_outputs")) emulator else list(emulator)
+}
+
+# One column per output of a stage-1 emulator's element (beta_eta, b).
+emulator_columns <- function(emulators, name) {
+  matrix(unlist(lapply(emulators, `[[`, name)), ncol = length(emulators))
+}
+
+# The matrices of `blocks` on the diagonal of one matrix, zero elsewhere.
+block_diagonal <- function(blocks) {
+  rows <- vapply(blocks, nrow, integer(1))
+  cols <- vapply(blocks, ncol, integer(1))
+  out <- matrix(0, sum(rows), sum(cols))
+  for (k in seq_along(blocks)) {
+    out[sum(rows[seq_len(k - 1L)]) + seq_len(rows[k]),
+        sum(cols[seq_len(k - 1L)]) + seq_len(cols[k])] <- blocks[[k]]
+  }
+  out
+}
+
+# The data of koh_modular.stan: stage2_stan_data() and each output's fixed
+# emulator's pieces, stacked by output: the runs at the field inputs less
+# the emulator mean, the field block of Kx (its first columns), the
+# Cholesky factor of Kt.
+modular_stan_data <- function(data, priors, emulator) {
+  pieces <- Map(modular_pieces, output_data(data), output_emulators(data, emulator),
+                MoreArgs = list(priors = priors))
+  kx <- lapply(pieces, `[[`, "Kx_ff")
+  n_max <- max(vapply(kx, nrow, integer(1)))
+  c(stage2_stan_data(data, priors, emulator),
+    list(n_max = n_max, E_f = do.call(rbind, lapply(pieces, `[[`, "E_f")),
+         Kx_ff = do.call(rbind, lapply(kx, function(k) cbind(k, matrix(0, nrow(k), n_max - ncol(k))))),
+         Lt = do.call(rbind, lapply(pieces, `[[`, "Lt"))))
+}
+
+# One output's pieces of modular_stan_data().
+modular_pieces <- function(data, emulator, priors) {
+  grid <- data$grid
+  n <- data$n
+  p <- data$p
+  xf <- grid$x[seq_len(n), , drop = FALSE]
+  coef <- drop(mean_selection(priors, p, data$q) %*% emulator$b)
+  if (length(coef) == 0L) coef <- numeric(1 + p + data$q)
+  beta_x <- emulator$beta_eta[seq_len(p)]
+  beta_t <- emulator$beta_eta[-seq_len(p)]
+  E <- grid_runs(data)[seq_len(n), , drop = FALSE]
+  kt <- jittered_cor(pair_geometry(grid$design, grid$design), beta_t, priors$nugget)
+  list(E_f = E - grid_mean(xf, grid$design, coef),
+       Kx_ff = jittered_cor(pair_geometry(xf, xf), beta_x, priors$nugget),
+       Lt = t(chol(kt)))
+}
+
+# Starting values given as a list per chain (rstan::sampling()'s `init`), as
+# the stage-2 programs take them: lambda_delta and lambda_e are vectors, one
+# element per output, and a basis fit samples tf as tf_u (basis_inits()).
+stage2_inits <- function(init, emulator) {
+  if (emulator == "basis") init <- basis_inits(init)
+  if (!is.list(init)) {
+    return(init)
+  }
+  lapply(init, function(chain) {
+    for (par in intersect(c("lambda_delta", "lambda_e"), names(chain))) {
+      chain[[par]] <- as.array(chain[[par]])
+    }
+    chain
+  })
+}
+
+# The data of koh_basis.stan: stage 2's common data (stage2_stan_data())
+# and the pieces of each output's basis emulator (`emulator$basis`),
+# stacked by output: its rows and its components a block of the bases `B`.
+basis_stan_data <- function(data, priors, emulator) {
+  bases <- lapply(output_emulators(data, emulator), `[[`, "basis")
+  gps <- unlist(lapply(bases, `[[`, "components"), recursive = FALSE)
+  mt <- nrow(bases[[1]]$tc)
+  field <- function(name, size) matrix(vapply(gps, `[[`, numeric(size), name), ncol = length(gps))
+  q <- ncol(bases[[1]]$tc)
+  c(stage2_stan_data(data, priors, emulator),
+    list(tf_edge = linear_box$edge, tf_multiplier = linear_box$multiplier,
+         pc = length(gps),
+         pc_output = as.array(rep(seq_along(bases), vapply(bases, function(b) ncol(b$B), integer(1)))),
+         mu_f = unlist(lapply(bases, `[[`, "mu")), B = block_diagonal(lapply(bases, `[[`, "B")),
+         s2r = as.array(vapply(bases, `[[`, numeric(1), "s2r")),
+         w_coef = field("b", q + 1), w_beta = field("beta", q),
+         w_s2 = as.array(vapply(gps, `[[`, numeric(1), "s2")),
+         w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
+         w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
+}
+
+# The scale koh_basis.stan samples tf on, passed to it as data: `edge`, the
+# width a of g's exponential tails (linear_box_lp(), linear_box_inverse()),
+# and `multiplier`, the unit of tf_u for Stan (the logit's scale at tf = 1/2,
+# so that NUTS's first, unit metric fits; inst/notes/design.md, "Stage-2
+# geometry").
+linear_box <- list(edge = 0.05, multiplier = 0.25)
+
+# Starting values given for tf (a list per chain, as rstan::sampling()
+# takes them) as koh_basis.stan samples it: tf_u = g^-1(tf). Other forms of
+# `init` ("random", 0, a function) are rstan's.
+basis_inits <- function(init) {
+  if (!is.list(init)) {
+    return(init)
+  }
+  lapply(init, function(chain) {
+    if (is.null(chain$tf)) {
+      return(chain)
+    }
+    c(chain[names(chain) != "tf"], list(tf_u = as.array(linear_box_inverse(chain$tf))))
+  })
+}
+
+# u = g^-1(tf) for linear_box_lp() of koh_basis.stan, g(u) = a (log(1 +
+# e^(u / a)) - log(1 + e^((u - 1) / a))): with y = e^(u / a), e^(g / a) =
+# (1 + y) / (1 + e^(-1 / a) y), so y = (e^(tf / a) - 1) / (1 - e^((tf - 1) / a)).
+linear_box_inverse <- function(tf, a = linear_box$edge) {
+  a * (log(expm1(tf / a)) - log(-expm1((tf - 1) / a)))
+}
