@@ -40,7 +40,7 @@ design_posterior <- function(fit, n, level = 0.9, seed = NULL, ...) {
   check_run_count(n)
   check_probability(level)
   # tf is on the emulator's [0, 1] scale, so quantiles and strata are too
-  tf <- as.matrix(fit$stanfit, pars = "tf")
+  tf <- stan_draws(fit, "tf")
   ends <- apply(tf, 2, stats::quantile, c(1 - level, 1 + level) / 2)
   design <- unscale_t(maximin_box(n, ends[1, ], ends[2, ], seed), fit$data$scaling)
   stats::setNames(as.data.frame(design), fit$data$names$t)

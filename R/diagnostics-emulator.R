@@ -105,7 +105,7 @@
 validate_emulator <- function(fit, simulator, ndraws = 40, level = 0.9, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
   check_probability(level)
-  if (inherits(fit, "bayesbem_outputs_fit")) {
+  if (is_several(fit)) {
     check_simulator(simulator)
     shared <- shared_runs(simulator)
     return(structure(lapply(stats::setNames(names(fit$outputs), names(fit$outputs)), function(k) {
@@ -159,7 +159,7 @@ calibration_shift <- function(fit, g, runs) {
   steps <- lapply(ok, function(i) emulator_shift(g, runs$draws[[i]], s[i, ]))
   delta <- matrix(vapply(steps, `[[`, numeric(fit$data$q), "shift"), ncol = length(ok))
   stated <- matrix(vapply(steps, `[[`, numeric(fit$data$q), "sd"), ncol = length(ok))
-  posterior_sd <- apply(as.matrix(fit$stanfit, pars = "tf"), 2, stats::sd)
+  posterior_sd <- apply(stan_draws(fit, "tf"), 2, stats::sd)
   shifts <- t(delta / posterior_sd)
   z <- t(delta / pmax(stated, .Machine$double.eps))
   structure(data.frame(parameter = fit$data$names$t, shift = apply(shifts, 2, stats::median),

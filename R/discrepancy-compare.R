@@ -93,7 +93,7 @@ compare_fits <- function(a, b, newdata = NULL, obs = NULL, truth = NULL, ndraws 
                      pareto_k_max = max(vapply(loos, function(l) max(l$diagnostics$pareto_k),
                                                numeric(1))))
   delta_sd <- vapply(list(a, b), function(fit) {
-    mean(1 / sqrt(as.matrix(fit$stanfit, pars = "lambda_delta"))) * fit$data$scaling$y_scale
+    mean(1 / sqrt(stan_draws(fit, "lambda_delta"))) * fit$data$scaling$y_scale
   }, numeric(1))
   out <- list(
     elpd = elpd,

@@ -55,7 +55,7 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, output = NUL
                      i = "{.arg with} adds statistical discrepancy terms; {.arg sim} a simulator with the missing mechanism."),
                    "argument")
   }
-  if (inherits(fit, "bayesbem_outputs_fit")) {
+  if (is_several(fit)) {
     return(extend_outputs(fit, with, covariates, sim, output, ...))
   }
   check_fit(fit)

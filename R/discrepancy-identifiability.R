@@ -62,7 +62,7 @@ identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
   rlang::check_dots_empty()
   check_count(ndraws)
   check_bool(refit)
-  if (inherits(fit, "bayesbem_outputs_fit")) {
+  if (is_several(fit)) {
     return(identifiability_outputs(fit, ndraws, refit))
   }
   check_fit(fit)
@@ -82,7 +82,7 @@ identifiability_fit <- function(fit, ndraws, refit, information = FALSE) {
   alignment <- do.call(rbind, lapply(per_draw, `[[`, "alignment"))
   # the shift in posterior sds of tf on the scale the emulator works on;
   # the spreads in physical units, where the priors are stated
-  posterior_sd_unit <- apply(as.matrix(fit$stanfit, pars = "tf"), 2, stats::sd)
+  posterior_sd_unit <- apply(stan_draws(fit, "tf"), 2, stats::sd)
   bounds <- t_bounds(data$scaling)
   span <- bounds$upper - bounds$lower
   prior_sd <- vapply(seq_len(data$q), function(k) {
@@ -125,7 +125,7 @@ identifiability_outputs <- function(fit, ndraws, refit) {
   shifts <- matrix(shifts, ncol = length(outputs))
   for (k in seq_along(outputs)) out[[paste0("shift_", outputs[k])]] <- shifts[, k]
   if (refit) {
-    posterior_sd_unit <- apply(as.matrix(fit$stanfit, pars = "tf"), 2, stats::sd)
+    posterior_sd_unit <- apply(stan_draws(fit, "tf"), 2, stats::sd)
     out$moved <- moved_by_discrepancy(fit, posterior_sd_unit)
   }
   confounded <- vapply(seq_len(nrow(out)), function(j) {
@@ -153,7 +153,7 @@ moved_by_discrepancy <- function(fit, posterior_sd) {
   priors$lambda_delta <- c(1e4, 1e-2)
   without <- suppressWarnings(refit(fit, priors = priors, progress = FALSE),
                               classes = "bayesbem_warning_convergence")
-  mean_tf <- function(f) colMeans(as.matrix(f$stanfit, pars = "tf"))
+  mean_tf <- function(f) colMeans(stan_draws(f, "tf"))
   (mean_tf(fit) - mean_tf(without)) / posterior_sd
 }
 

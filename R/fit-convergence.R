@@ -51,7 +51,7 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
   out <- structure(s, class = c("bayesbem_convergence", "data.frame"), sampler = sampler,
                    thresholds = list(rhat_max = rhat_max, ess_min = ess_min,
                                      ebfmi_min = ebfmi_min),
-                   emulator = if (!inherits(fit, "bayesbem_outputs_fit")) emulator_variables(fit),
+                   emulator = if (!is_several(fit)) emulator_variables(fit),
                    kept_moved = fit$settings$kept_moved %||% integer(0))
   if (warn) warn_convergence(out)
   out
@@ -61,7 +61,7 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
 # outputs, the shared parameters once and each output's own under its name
 # (output_variables()).
 convergence_rows <- function(fit) {
-  if (inherits(fit, "bayesbem_outputs_fit")) {
+  if (is_several(fit)) {
     rows <- lapply(names(fit$outputs), function(k) {
       s <- convergence_rows(fit$outputs[[k]])
       v <- output_variables(s$variable, k, names(fit$outputs), fit$data$names$t)

@@ -1,12 +1,6 @@
 # The bayesbem_fit object: its constructor, draws in the posterior package's
 # formats, the summary and the print methods.
 
-new_bayesbem_fit <- function(stanfit, data, priors, settings, predict_at = NULL, emulator = NULL) {
-  structure(list(stanfit = stanfit, data = data, priors = priors, settings = settings,
-                 predict_at = predict_at, emulator = emulator),
-            class = "bayesbem_fit")
-}
-
 #' Posterior draws of a KOH calibration in physical units
 #'
 #' The calibration parameters are named after their columns in the
@@ -30,13 +24,16 @@ NULL
 #' @exportS3Method posterior::as_draws_array
 as_draws_array.bayesbem_fit <- function(x, ...) {
   rlang::check_dots_empty()
+  if (is_several(x)) {
+    return(several_draws_array(x))
+  }
   d <- x$data
   h_names <- names(d$covariates)
   b_names <- mean_term_names(x$priors, d)
-  arr <- as.array(x$stanfit, pars = c("tf", "beta_eta", "beta_delta", "lambda_eta",
-                                      "lambda_delta", "lambda_e",
-                                      if (length(h_names) > 0L) "gamma",
-                                      if (length(b_names) > 0L) "b", "lp__"))
+  arr <- unclass(posterior::subset_draws(
+    x$draws, variable = c("tf", "beta_eta", "beta_delta", "lambda_eta", "lambda_delta",
+                          "lambda_e", if (length(h_names) > 0L) "gamma",
+                          if (length(b_names) > 0L) "b", "lp__")))
   tf <- grep("^tf\\[", dimnames(arr)[[3]])
   for (k in seq_along(tf)) arr[, , tf[k]] <- unscale_t1(arr[, , tf[k]], d$scaling, k)
   dimnames(arr)[[3]] <- c(d$names$t, emulator_draw_names(d)$beta_eta,
@@ -49,25 +46,6 @@ as_draws_array.bayesbem_fit <- function(x, ...) {
     arr[, , j] <- arr[, , j] * d$scaling$y_scale / d$h_scale[[k]]
   }
   posterior::as_draws_array(arr)
-}
-
-# Names of the emulator's draws: its correlation parameter per input and
-# calibration parameter, and its mean's coefficients.
-emulator_draw_names <- function(d, b_names = character()) {
-  list(beta_eta = sprintf("beta_eta[%s]", c(d$names$x, d$names$t)),
-       b = sprintf("b[%s]", b_names))
-}
-
-# The terms of the emulator mean: "intercept" and the names of the inputs
-# and parameters it is linear in.
-mean_term_names <- function(priors, data) {
-  all <- c("intercept", data$names$x, data$names$t)
-  all[rowSums(mean_selection(priors, data$p, data$q)) > 0]
-}
-
-# Draws (rows) of calibration parameters `names` in physical units.
-parameter_draws <- function(fit, names = fit$data$names$t) {
-  posterior::as_draws_matrix(as_draws_array.bayesbem_fit(fit))[, names, drop = FALSE]
 }
 
 #' @rdname as_draws.bayesbem_fit
@@ -104,6 +82,9 @@ as_draws_df.bayesbem_fit <- function(x, ...) posterior::as_draws_df(as_draws_arr
 #' seb_fit
 summary.bayesbem_fit <- function(object, ...) {
   rlang::check_dots_empty()
+  if (is_several(object)) {
+    return(several_summary(object))
+  }
   s <- summarise_fit(
     object, mean = mean, sd = stats::sd,
     quantiles = function(v) {
@@ -164,6 +145,9 @@ summarise_quietly <- function(draws, measures) {
 #' @export
 print.summary.bayesbem_fit <- function(x, ...) {
   rlang::check_dots_empty()
+  if (!is.null(x$outputs)) {
+    return(print_several_summary(x))
+  }
   st <- x$settings
   cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters (%s likelihood%s)\n",
               x$data$n, x$data$m, x$data$p, x$data$q, st$structure %||% "dense",
@@ -223,32 +207,49 @@ print.bayesbem_fit <- function(x, ...) {
   invisible(x)
 }
 
-
-# The variables a fit holds fixed rather than samples: a modular fit's
-# emulator hyperparameters, at their stage-1 mode.
-fixed_variables <- function(fit) {
-  if (is.null(fit$emulator)) character() else emulator_variables(fit)
+# Draws (rows) of calibration parameters `names` in physical units.
+parameter_draws <- function(fit, names = fit$data$names$t) {
+  posterior::as_draws_matrix(as_draws_array.bayesbem_fit(fit))[, names, drop = FALSE]
 }
 
-# The names of the emulator's hyperparameters in the convergence table: its
-# correlation parameters, variance and mean coefficients.
-emulator_variables <- function(fit) {
-  names <- emulator_draw_names(fit$data, mean_term_names(fit$priors, fit$data))
-  c(names$beta_eta, "lambda_eta", names$b)
+# as_draws_array() of a fit on several outputs: the shared parameters once,
+# each output's own named "<output>:<variable>" (output_variables()).
+several_draws_array <- function(x) {
+  draws <- lapply(names(x$outputs), function(k) {
+    d <- as_draws_array.bayesbem_fit(x$outputs[[k]])
+    v <- output_variables(posterior::variables(d), k, names(x$outputs), c(x$data$names$t, "lp__"))
+    d <- posterior::subset_draws(d, variable = names(v))
+    posterior::variables(d) <- unname(v)
+    d
+  })
+  do.call(posterior::bind_draws, c(draws, along = "variable"))
 }
 
-# The sampler's problems in a fit (stage 2 of a modular fit, whose stage 1
-# is a mode search).
-fit_sampler_diagnostics <- function(fit) sampler_diagnostics(fit$stanfit)
 
-sampler_diagnostics <- function(stanfit) {
-  sp <- rstan::get_sampler_params(stanfit, inc_warmup = FALSE)
-  max_td <- stanfit@stan_args[[1]]$control$max_treedepth %||% 10
-  list(divergent = sum(vapply(sp, function(s) sum(s[, "divergent__"]), numeric(1))),
-       treedepth_hits = sum(vapply(sp, function(s) sum(s[, "treedepth__"] >= max_td), numeric(1))),
-       max_treedepth = max_td,
-       ebfmi = vapply(sp, function(s) {
-         e <- s[, "energy__"]
-         sum(diff(e)^2) / sum((e - mean(e))^2)
-       }, numeric(1)))
+# summary() of a fit on several outputs: the shared parameters once, each
+# output's summary.
+several_summary <- function(object) {
+  outputs <- lapply(object$outputs, summary)
+  structure(list(parameters = outputs[[1]]$parameters, outputs = outputs,
+                 settings = object$settings, sampler = fit_sampler_diagnostics(object)),
+            class = "summary.bayesbem_fit")
+}
+
+# print() of several_summary().
+print_several_summary <- function(x) {
+  st <- x$settings
+  sizes <- vapply(x$outputs, function(s) s$data$n, integer(1))
+  cat(sprintf("KOH calibration on %d outputs (%s field rows), %d parameters (modular%s)\n",
+              length(sizes), paste(sprintf("%s %d", names(sizes), sizes), collapse = ", "),
+              x$outputs[[1]]$data$q, if (identical(st$emulator, "basis")) ", basis emulators" else ""))
+  cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions%s\n\n",
+              st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent,
+              minor_modes_label(st$dropped, st$restarted, st$kept_moved)))
+  cat("Calibration parameters (physical units), shared by the outputs:\n")
+  print_summary_table(x$parameters)
+  for (k in names(x$outputs)) {
+    cat(sprintf("\n%s: discrepancy and noise (standardised scale):\n", k))
+    print_summary_table(x$outputs[[k]]$hyperparameters)
+  }
+  invisible(x)
 }

@@ -3,92 +3,45 @@
 # (koh_modular.stan, koh_basis.stan: output k's rho_delta and beta_delta are
 # its block of p elements, its lambda_delta, lambda_e and lambda_eta element
 # k, its beta_eta and b its blocks, its gamma the columns of its own
-# discrepancy terms). Each output is then also a one-output bayesbem_fit of
-# its own, whose stanfit holds the shared draws of tf and that output's
-# other parameters under the one-output names: every tool that reads a
-# one-output fit reads it, and the outputs' draws stay paired (draw i of
-# every output is the same draw of tf).
+# discrepancy terms). The fit names each output's variables once
+# ("gas:lambda_e"), and each output's view (output_view()) is a one-output
+# fit whose draws are the shared ones and the output's own: every tool that
+# reads a one-output fit reads it, and the outputs' draws stay paired (draw
+# i of every output is the same draw of tf).
 
-# The elements of output k among a K-output program's parameters, and the
-# parameters that are one number per output (scalars in a one-output fit).
-output_elements <- function(k, p, q, n_b, n_h) {
-  block <- function(size) (k - 1L) * size + seq_len(size)
-  list(elements = list(rho_delta = block(p), beta_delta = block(p), beta_eta = block(p + q),
-                       b = block(n_b), lambda_delta = k, lambda_e = k, lambda_eta = k,
-                       gamma = sum(n_h[seq_len(k - 1L)]) + seq_len(n_h[k])),
-       scalars = c("lambda_delta", "lambda_e", "lambda_eta"))
-}
-
-# The stanfit `sf` reduced to some elements of its parameters (`elements`, a
-# list by parameter; a parameter not named keeps all of its), renamed as a
-# one-output program names them: element j of those kept is `par[j]`, and a
-# parameter in `scalars` is `par`; the chains' starting values likewise.
-# The sampler's diagnostics and settings are kept as they are.
-output_stanfit <- function(sf, elements, scalars) {
-  old <- new <- character()
-  dims <- list()
-  for (par in sf@model_pars) {
-    dim <- sf@par_dims[[par]]
-    if (length(dim) == 0L) {
-      old <- c(old, par)
-      new <- c(new, par)
-      dims[[par]] <- integer(0)
-      next
-    }
-    keep <- elements[[par]] %||% seq_len(prod(dim))
-    scalar <- par %in% scalars
-    old <- c(old, sprintf("%s[%d]", par, keep))
-    new <- c(new, if (scalar) par else sprintf("%s[%d]", par, seq_along(keep)))
-    dims[[par]] <- if (scalar) integer(0) else length(keep)
-  }
-  sf@sim$samples <- lapply(sf@sim$samples, function(chain) {
-    kept <- stats::setNames(chain[old], new)
-    attrs <- attributes(chain)
-    attrs <- attrs[setdiff(names(attrs), c("names", "mean_pars", "inits"))]
-    attributes(kept) <- c(attributes(kept), attrs)
-    kept
-  })
-  sf@sim$fnames_oi <- new
-  sf@sim$n_flatnames <- length(new)
-  sf@sim$pars_oi <- sf@model_pars
-  sf@sim$dims_oi <- dims[sf@model_pars]
-  sf@par_dims <- dims[sf@model_pars]
-  sf@inits <- lapply(sf@inits, function(chain) {
-    for (par in intersect(names(chain), names(elements))) {
-      kept <- as.vector(chain[[par]])[elements[[par]]]
-      chain[[par]] <- if (par %in% scalars) kept else as.array(kept)
+# Output `k`'s view of a fit on several outputs: a one-output fit whose
+# draws are the shared variables and the output's own, the prefix dropped
+# (posterior's subset_draws()), with the output's data, its emulator and
+# each chain's starting values reduced to its elements.
+output_view <- function(fit, k, emulator) {
+  prefix <- paste0(k, ":")
+  variables <- posterior::variables(fit$draws)
+  keep <- startsWith(variables, prefix) | !grepl(":", variables, fixed = TRUE)
+  draws <- posterior::subset_draws(fit$draws, variable = variables[keep])
+  posterior::variables(draws) <- sub(prefix, "", posterior::variables(draws), fixed = TRUE)
+  part <- output_parts(fit$data, fit$emulator)[[k]]
+  inits <- lapply(fit$inits, function(chain) {
+    for (par in intersect(names(chain), names(part$elements))) {
+      kept <- as.vector(chain[[par]])[part$elements[[par]]]
+      chain[[par]] <- if (par %in% part$scalars) kept else as.array(kept)
     }
     chain
   })
-  sf
+  new_bayesbem_fit(draws, fit$sampler, inits, fit$data$outputs[[k]], fit$priors, fit$settings,
+                   emulator = emulator)
 }
 
-# The one-output fits of a stage-2 stanfit on `data` (one output or
-# several), each built by `build(stanfit, data, emulator)`.
-output_fits <- function(stanfit, data, emulator, build) {
-  outputs <- output_data(data)
-  emulators <- output_emulators(data, emulator)
-  n_h <- vapply(outputs, function(d) ncol(discrepancy_design(d)), integer(1))
-  first <- outputs[[1]]
-  lapply(seq_along(outputs), function(k) {
-    n_b <- length(emulators[[k]]$b)
-    parts <- output_elements(k, first$p, first$q, n_b, n_h)
-    build(output_stanfit(stanfit, parts$elements, parts$scalars), outputs[[k]], emulators[[k]])
-  })
+# A fit on several outputs with each output's view, by name.
+with_output_views <- function(fit) {
+  emulators <- output_emulators(fit$data, fit$emulator)
+  k <- names(fit$data$outputs)
+  fit$outputs <- stats::setNames(Map(function(k, em) output_view(fit, k, em), k, emulators), k)
+  fit
 }
 
-# A fit on several outputs: the stage-2 stanfit with every output's
-# parameters, the bayesbem_outputs data, and `outputs`, each output's
-# one-output fit (output_fits()) by name.
-new_outputs_fit <- function(stanfit, data, fits, priors, settings) {
-  structure(list(stanfit = stanfit, data = data, outputs = stats::setNames(fits, names(data$outputs)),
-                 priors = priors, settings = settings),
-            class = "bayesbem_outputs_fit")
-}
-
-# The one-output fits of a fit: its outputs', or the fit itself.
+# The one-output fits of a fit: its outputs' views, or the fit itself.
 output_fit_list <- function(fit) {
-  if (inherits(fit, "bayesbem_outputs_fit")) fit$outputs else list(fit)
+  if (is_several(fit)) fit$outputs else list(fit)
 }
 
 #' One output of a fit on several outputs
@@ -123,7 +76,7 @@ output_fit_list <- function(fit) {
 #' output_fit(fit, "gas")
 #' }
 output_fit <- function(fit, output) {
-  if (!inherits(fit, "bayesbem_outputs_fit")) {
+  if (!inherits(fit, "bayesbem_fit") || !is_several(fit)) {
     abort_bayesbem(c("{.arg fit} must be a fit on several outputs, not {.obj_type_friendly {fit}}.",
                      i = "Calibrate on data with an {.field output} column (see {.fn koh_data})."),
                    "argument")
@@ -181,60 +134,4 @@ add_output_terms <- function(data, covariates, call = rlang::caller_env()) {
 output_variables <- function(variables, k, outputs, shared) {
   keep <- if (k == outputs[1]) variables else setdiff(variables, shared)
   stats::setNames(ifelse(keep %in% shared, keep, paste0(k, ":", keep)), keep)
-}
-
-#' @rdname output_fit
-#' @param x A fit on several outputs.
-#' @param ... Unused.
-#' @exportS3Method posterior::as_draws_array
-as_draws_array.bayesbem_outputs_fit <- function(x, ...) {
-  rlang::check_dots_empty()
-  draws <- lapply(names(x$outputs), function(k) {
-    d <- as_draws_array.bayesbem_fit(x$outputs[[k]])
-    v <- output_variables(posterior::variables(d), k, names(x$outputs), c(x$data$names$t, "lp__"))
-    d <- posterior::subset_draws(d, variable = names(v))
-    posterior::variables(d) <- unname(v)
-    d
-  })
-  do.call(posterior::bind_draws, c(draws, along = "variable"))
-}
-
-#' @rdname output_fit
-#' @exportS3Method posterior::as_draws
-as_draws.bayesbem_outputs_fit <- function(x, ...) as_draws_array.bayesbem_outputs_fit(x, ...)
-
-#' @export
-summary.bayesbem_outputs_fit <- function(object, ...) {
-  rlang::check_dots_empty()
-  outputs <- lapply(object$outputs, summary)
-  structure(list(parameters = outputs[[1]]$parameters, outputs = outputs,
-                 settings = object$settings, sampler = fit_sampler_diagnostics(object)),
-            class = "summary.bayesbem_outputs_fit")
-}
-
-#' @export
-print.summary.bayesbem_outputs_fit <- function(x, ...) {
-  rlang::check_dots_empty()
-  st <- x$settings
-  sizes <- vapply(x$outputs, function(s) s$data$n, integer(1))
-  cat(sprintf("KOH calibration on %d outputs (%s field rows), %d parameters (modular%s)\n",
-              length(sizes), paste(sprintf("%s %d", names(sizes), sizes), collapse = ", "),
-              x$outputs[[1]]$data$q, if (identical(st$emulator, "basis")) ", basis emulators" else ""))
-  cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions%s\n\n",
-              st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent,
-              minor_modes_label(st$dropped, st$restarted, st$kept_moved)))
-  cat("Calibration parameters (physical units), shared by the outputs:\n")
-  print_summary_table(x$parameters)
-  for (k in names(x$outputs)) {
-    cat(sprintf("\n%s: discrepancy and noise (standardised scale):\n", k))
-    print_summary_table(x$outputs[[k]]$hyperparameters)
-  }
-  invisible(x)
-}
-
-#' @export
-print.bayesbem_outputs_fit <- function(x, ...) {
-  rlang::check_dots_empty()
-  print(summary(x))
-  invisible(x)
 }

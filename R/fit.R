@@ -131,10 +131,11 @@
 #'   runs, and stage 2 samples the calibration parameters the outputs share
 #'   with a discrepancy and a noise for each output. Given the parameters
 #'   the outputs are independent, so the log density is the sum of the
-#'   outputs' and a gradient costs the sum of theirs. The result, of class
-#'   `bayesbem_outputs_fit`, prints the shared parameters and each output's
-#'   discrepancy and noise; [output_fit()] gives each output as a fit of its
-#'   own, which every other tool takes, and [predict()] predicts every
+#'   outputs' and a gradient costs the sum of theirs. The fit prints the
+#'   shared parameters and each output's discrepancy and noise;
+#'   [output_fit()] gives each output's view, a fit of one output whose
+#'   draws are the shared ones and the output's own, which every tool
+#'   takes; [predict()], [predict_scenario()] and [savings()] give every
 #'   output and their totals. `covariates` is then a list of tables named by
 #'   output, and starting values give `lambda_delta` and `lambda_e` one
 #'   element per output.
@@ -151,10 +152,13 @@
 #'   `options(bayesbem.lapack = TRUE)` or `FALSE` overrides the choice, and
 #'   `fit$settings$lapack` records it: the two give the same log density to
 #'   rounding, but a seeded fit repeats exactly only with the same choice.
-#' @return An object of class `bayesbem_fit`: the `stanfit`, the [koh_data()]
-#'   (with its scaling), the priors and the sampler settings. Use `print()`,
-#'   `summary()` and [posterior::as_draws()] on it. On several outputs, a
-#'   `bayesbem_outputs_fit` (see "Several outputs").
+#' @return An object of class `bayesbem_fit`, of one output or several: the
+#'   posterior draws of the Stan program's parameters (`draws`, a
+#'   [posterior::draws_array] on the program's scale; each output's own
+#'   variables named `"<output>:<variable>"` on several outputs), the
+#'   sampler's diagnostics, the [koh_data()] (with its scaling), the priors
+#'   and the sampler settings. Use `print()`, `summary()` and
+#'   [posterior::as_draws()] (physical units) on it.
 #' @family calibration
 #' @export
 #' @examples
@@ -226,15 +230,9 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                    structure = structure, modular = modular, emulator = emulator_type,
                    minor_modes = minor_modes, lapack = lapack, dropped = attr(stanfit, "dropped"),
                    restarted = restarted_chains(stanfit), kept_moved = attr(stanfit, "kept_moved"))
-  fit <- if (modular) {
-    fits <- output_fits(stanfit, data, stage1, function(sf, d, em) {
-      new_bayesbem_fit(sf, data = d, priors = priors, settings = settings, emulator = em)
-    })
-    if (several) new_outputs_fit(stanfit, data, fits, priors, settings) else fits[[1]]
-  } else {
-    new_bayesbem_fit(stanfit, data = data, priors = priors, settings = settings,
+  fit <- stanfit_fit(stanfit, data, priors, settings, emulator = stage1,
                      predict_at = if (!is.null(predict_at)) predict_at[data$names$x])
-  }
+  if (several) fit <- with_output_views(fit)
   inform_minor_modes(fit$settings$dropped, fit$settings$restarted,
                      moved_parameters(output_fit_list(fit)[[1]], attr(stanfit, "minor_tf")),
                      fit$settings$kept_moved)
@@ -242,11 +240,12 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   fit
 }
 
-# The Stan program of a fit and its data, one row per kind of fit:
-#   joint, dense likelihood      koh.stan          koh_stan_data()      (R/priors.R)
+# The Stan program of a fit and its data (R/fit-stan-data.R), one row per
+# kind of fit:
+#   joint, dense likelihood      koh.stan          koh_stan_data()
 #   joint, grid likelihood       koh_grid.stan     koh_stan_data()
-#   modular, separable emulator  koh_modular.stan  modular_stan_data()  (R/fit-modular.R)
-#   modular, basis emulator      koh_basis.stan    basis_stan_data()    (R/fit-basis.R)
+#   modular, separable emulator  koh_modular.stan  modular_stan_data()
+#   modular, basis emulator      koh_basis.stan    basis_stan_data()
 # Stage 1 of a modular fit is koh_emulator.stan (emulator_stan_data()).
 stan_program <- function(data, priors, stage1, emulator, modular, structure, predict_at) {
   if (emulator == "basis") {
@@ -471,7 +470,7 @@ refit <- function(fit, ...) {
 # A fit's discrepancy terms as calibrate() takes them: a table, or on
 # several outputs a list of tables by output (those with terms).
 fit_covariates <- function(fit) {
-  if (!inherits(fit, "bayesbem_outputs_fit")) {
+  if (!is_several(fit)) {
     return(fit$data$covariates)
   }
   terms <- Filter(Negate(is.null), lapply(fit$data$outputs, `[[`, "covariates"))

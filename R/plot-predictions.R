@@ -43,7 +43,7 @@ plot_predictions <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
 #' @rdname plot_predictions
 #' @export
 plot_predictions_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
-  if (inherits(x, "bayesbem_outputs_fit")) {
+  if (is_several(x)) {
     return(outputs_plot_data(x, plot_predictions_data, newdata, obs, ndraws))
   }
   set <- prediction_set(x, newdata, obs)
@@ -104,7 +104,7 @@ plot_components <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
 #' @rdname plot_components
 #' @export
 plot_components_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
-  if (inherits(x, "bayesbem_outputs_fit")) {
+  if (is_several(x)) {
     return(outputs_plot_data(x, plot_components_data, newdata, obs, ndraws))
   }
   sets <- evaluation_sets(x, newdata, obs)

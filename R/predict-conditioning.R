@@ -41,8 +41,7 @@ gp_geometry <- function(data, x_new = NULL, structure = "dense", basis = NULL) {
 # Posterior draws of the model's parameters on the Stan scale, one list per draw
 # (evenly spaced ones with `ndraws`; their indices in `attr(, "index")`).
 draw_parameters <- function(fit, ndraws = NULL) {
-  sf <- fit$stanfit
-  get <- function(par) as.matrix(sf, pars = par)
+  get <- function(par) stan_draws(fit, par)
   tf <- get("tf")
   beta_eta <- get("beta_eta")
   beta_delta <- get("beta_delta")

@@ -1,33 +1,11 @@
 # Predictions of a fit on several outputs: each output's from the same
 # posterior draws, and their weighted totals.
 
-#' Calibrated predictions of a fit on several outputs
-#'
-#' [predict()] for each output of a fit on several outputs, from the same
-#' posterior draws, and optionally their weighted total (site energy, or
-#' cost with prices per unit of each output), draw by draw, so that the
-#' total's uncertainty holds the outputs' dependence through the shared
-#' parameters.
-#'
-#' @inheritParams predict.bayesbem_fit
-#' @param object A fit on several outputs.
-#' @param newdata Observable inputs: a data frame for every output, or a
-#'   long one whose `output` column (the column the data named outputs by)
-#'   says which output each row is for; by default each output's field
-#'   inputs.
-#' @template args-total
-#' @return With `summary = TRUE`, the data frame of [predict.bayesbem_fit()]
-#'   with a first column `output`; else a list of draws-by-points matrices
-#'   by output (and `total`).
-#' @family prediction
-#' @export
-predict.bayesbem_outputs_fit <- function(object, newdata = NULL, type = c("y", "eta", "delta"),
-                                         ndraws = NULL, summary = TRUE, noise = FALSE,
-                                         level = 0.9, total = NULL, ...) {
-  rlang::check_dots_empty()
-  type <- match_choice(type)
-  check_bool(summary)
-  check_bool(noise)
+# predict() of a fit on several outputs: each output's from the same
+# posterior draws, and their weighted total (site energy, or cost with
+# prices per unit of each output) draw by draw, so that the total's
+# uncertainty holds the outputs' dependence through the shared parameters.
+predict_outputs <- function(object, newdata, type, ndraws, summary, noise, level, total) {
   inputs <- outputs_newdata(object, newdata)
   draws <- lapply(stats::setNames(names(inputs), names(inputs)), function(k) {
     predict_draws(object$outputs[[k]], inputs[[k]], ndraws = ndraws, noise = noise)[[type]]
@@ -48,7 +26,7 @@ predict.bayesbem_outputs_fit <- function(object, newdata = NULL, type = c("y", "
 }
 
 # The inputs at which each output is predicted, by output (see
-# predict.bayesbem_outputs_fit()).
+# predict() of several outputs).
 outputs_newdata <- function(fit, newdata, call = rlang::caller_env()) {
   outputs <- names(fit$outputs)
   if (is.null(newdata)) {

@@ -61,7 +61,7 @@ savings <- function(fit, baseline, retrofit, ndraws = 40,
   retrofit <- as_scenario(retrofit)
   discrepancy <- match_choice(discrepancy)
   check_same_periods(baseline, retrofit)
-  if (inherits(fit, "bayesbem_outputs_fit")) {
+  if (is_several(fit)) {
     return(savings_outputs(fit, baseline, retrofit, ndraws, discrepancy, cache_dir, total))
   }
   check_fit(fit)

@@ -65,7 +65,7 @@ predict_scenario <- function(fit, scenario, ndraws = 40,
                              covariates = NULL, cache_dir = NULL, total = NULL, ...) {
   rlang::check_dots_empty()
   discrepancy <- match_choice(discrepancy)
-  if (inherits(fit, "bayesbem_outputs_fit")) {
+  if (is_several(fit)) {
     return(predict_scenario_outputs(fit, scenario, ndraws, discrepancy, noise, covariates,
                                     cache_dir, total))
   }

@@ -2,7 +2,7 @@
 # columns.
 
 check_fit <- function(fit, arg = rlang::caller_arg(fit), call = rlang::caller_env()) {
-  if (inherits(fit, "bayesbem_outputs_fit")) {
+  if (is_several(fit)) {
     abort_bayesbem(c("{.arg {arg}} is a fit on several outputs; this tool reads one output.",
                      i = "Take one with {.code output_fit({arg}, \"{names(fit$outputs)[1]}\")}."),
                    "argument", call = call)
@@ -37,3 +37,6 @@ check_numeric_complete <- function(d, cols, arg, call = rlang::caller_env()) {
     }
   }
 }
+
+# Whether a fit is on several outputs (a long table's outputs, one or more).
+is_several <- function(fit) inherits(fit, "bayesbem_fit") && !is.null(fit$outputs)

@@ -79,8 +79,8 @@ one_problem <- function(n, mt, k) {
 # Mean leapfrog steps per iteration of the fit's (stage-2) chains, in
 # `phase` ("warmup" or "sampling"; NaN when warm-up was not saved).
 leapfrog_steps <- function(fit, phase) {
-  all <- rstan::get_sampler_params(fit$stanfit, inc_warmup = TRUE)
-  kept <- rstan::get_sampler_params(fit$stanfit, inc_warmup = FALSE)
+  all <- fit$sampler$params
+  kept <- bayesbem:::sampler_params(fit)
   steps <- Map(function(a, k) {
     warm <- seq_len(nrow(a) - nrow(k))
     if (phase == "sampling") k[, "n_leapfrog__"] else a[warm, "n_leapfrog__"]
@@ -113,7 +113,7 @@ evaluate <- function(fit, problem, n, mt, k, wall) {
              # restarted from a lone main mode counts its second run only)
              leapfrog = leapfrog_steps(fit, "sampling"),
              warmup_leapfrog = leapfrog_steps(fit, "warmup"),
-             chain_s = round(sum(rstan::get_elapsed_time(fit$stanfit))),
+             chain_s = round(sum(fit$sampler$elapsed)),
              dropped = paste(unlist(fit$settings$dropped), collapse = " "),
              # how many of stage 1's searches reached the emulator's mode
              stage1_found = if (is.null(fit$emulator)) NA else

@@ -74,7 +74,7 @@ for (n in ns) {
       ))[["elapsed"]]
       s <- summary(fit)
       all_s <- rbind(s$parameters, s$hyperparameters)
-      n_grad <- sum(rstan::get_num_leapfrog_per_iteration(fit$stanfit)) /
+      n_grad <- sum(unlist(lapply(bayesbem:::sampler_params(fit), `[`, , "n_leapfrog__"))) /
         (1 - fit$settings$warmup / fit$settings$iter)
       grads_ref[[as.character(mt)]] <- c(n = n, grads = n_grad)
       fit_note <- ""

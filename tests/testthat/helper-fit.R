@@ -57,3 +57,9 @@ counting_simulator <- function(counter, sim = two_output_simulator()) {
     sim$fun(params, x)
   }, sim$x, sim$parameters)
 }
+
+# The columns of a posterior draws matrix as a plain matrix, as
+# bayesbem:::stan_draws() gives them.
+unname_draws <- function(d) {
+  array(as.vector(d), dim(d), list(NULL, colnames(d)))
+}

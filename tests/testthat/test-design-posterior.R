@@ -4,7 +4,7 @@ test_that("design_posterior() is a Latin hypercube over the posterior's central 
   expect_equal(nrow(d), 10)
   # on the emulator's [0, 1] scale: one run in each of the 10 strata
   # between the 10 % and 90 % posterior quantiles of every parameter
-  tf <- as.matrix(seb_fit$stanfit, pars = "tf")
+  tf <- bayesbem:::stan_draws(seb_fit, "tf")
   u <- bayesbem:::scale_t(d, seb_fit$data$scaling)
   for (k in seq_len(ncol(tf))) {
     q <- quantile(tf[, k], c(0.1, 0.9), names = FALSE)

@@ -155,7 +155,7 @@ test_that("a basis fit of daily data converges near the truth", {
   expect_equal(fit$settings$emulator, "basis")
   expect_equal(fit$settings[c("iter", "warmup")], list(iter = 3000L, warmup = 1000L))
   expect_equal(fit$settings$control, list(adapt_delta = 0.95, metric = "dense_e"))
-  expect_equal(dimnames(as.array(fit$stanfit, pars = "tf_u"))[[3]], sprintf("tf_u[%d]", 1:3))
+  expect_equal(posterior::variables(posterior::subset_draws(fit$draws, variable = "tf_u")), sprintf("tf_u[%d]", 1:3))
   pc <- length(fit$emulator$basis$components)
   expect_gte(pc, 1)
   s <- summary(fit)

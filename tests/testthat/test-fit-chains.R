@@ -10,7 +10,7 @@ test_that("chains run one per process give rstan's own multi-chain draws", {
                                     control = list(adapt_delta = 0.9), minor_modes = "keep",
                                     modular = FALSE),
                           classes = "bayesbem_warning_convergence")
-  expect_equal(as.array(fit$stanfit), as.array(reference))
+  expect_equal(unname(unclass(fit$draws)), unname(as.array(reference)))
   # the chains' draws as minor_mode_chains() reads them
   single <- lapply(1:2, function(k) {
     suppressWarnings(rstan::sampling(bayesbem:::stanmodels$koh_grid, data = stan_data, chains = 1,
@@ -130,7 +130,7 @@ test_that("chains kept in a minor mode are reported in the message, summary and 
   expect_match(messages[[1]], sprintf("%s: %s in the minor mode", fit$data$names$t[1], signif(low, 3)),
                fixed = TRUE)
   expect_equal(fit$settings$kept_moved, 2L)
-  expect_equal(dim(as.array(fit$stanfit))[2], 2L)
+  expect_equal(posterior::nchains(fit$draws), 2L)
   expect_match(conditionMessage(w), "Chain 2 was kept in a minor mode")
   expect_match(capture.output(print(summary(fit)))[2], "kept (minor mode): chain 2 (calibration elsewhere)",
                fixed = TRUE)
@@ -166,9 +166,10 @@ test_that("restarted chains start from the main mode's draws and are reported", 
     class = "bayesbem_message_minor_modes"
   )
   expect_equal(fit$settings$restarted, list(chains = 2L, from = 1L))
-  expect_equal(as.array(fit$stanfit)[, 1, ], as.array(first)[, 1, ])
-  expect_equal(as.array(fit$stanfit)[, 2, ],
-               as.array(sample_seb(2, init = bayesbem:::restart_inits(first, 1)))[, 1, ])
+  drawn <- unname(unclass(fit$draws))
+  expect_equal(drawn[, 1, ], unname(as.array(first)[, 1, ]))
+  expect_equal(drawn[, 2, ],
+               unname(as.array(sample_seb(2, init = bayesbem:::restart_inits(first, 1)))[, 1, ]))
   expect_match(capture.output(print(summary(fit)))[2], "restarted (minor mode): chain 2 from chain 1",
                fixed = TRUE)
 })
@@ -204,7 +205,7 @@ test_that("dropped and restarted chains are named in the message and the summary
 })
 
 test_that("the calibration parameters a minor mode put elsewhere are named", {
-  tf <- as.matrix(seb_fit$stanfit, pars = "tf")
+  tf <- bayesbem:::stan_draws(seb_fit, "tf")
   physical <- bayesbem:::parameter_draws(seb_fit)
   # the minor mode at the fit's medians, but the first parameter at the
   # bottom of its range, outside the fit's 90 % interval
@@ -265,6 +266,6 @@ test_that("a list of starting values gives each chain its own", {
   fit <- suppressWarnings(calibrate(seb_field, seb_sim, chains = 2, iter = 20, seed = test_seed(1),
                                     init = starts),
                           classes = "bayesbem_warning_convergence")
-  expect_equal(lapply(fit$stanfit@inits, function(i) as.vector(i$tf)),
+  expect_equal(lapply(fit$inits, function(i) as.vector(i$tf)),
                list(rep(0.2, 3), rep(0.8, 3)))
 })

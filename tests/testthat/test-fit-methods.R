@@ -22,7 +22,7 @@ test_that("print(), summary() and as_draws() show physical units and hyperparame
   draws <- posterior::as_draws(fit)
   expect_s3_class(draws, "draws_array")
   expect_equal(posterior::ndraws(draws), 1000)
-  tf <- rstan::extract(fit$stanfit, "tf")$tf[, 2]
+  tf <- bayesbem:::stan_draws(fit, "tf")[, 2]
   lo <- min(seb_sim$equipment_power_density)
   hi <- max(seb_sim$equipment_power_density)
   expect_equal(sort(as.vector(posterior::as_draws_matrix(draws)[, "equipment_power_density"])),

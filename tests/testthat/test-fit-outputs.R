@@ -87,7 +87,7 @@ test_that("one output in a long table gives the one-output fit, draw for draw", 
                                     progress = FALSE))
   long <- suppressWarnings(calibrate(long_field, long_sim, chains = 1, iter = 300, seed = test_seed(5),
                                      progress = FALSE))
-  expect_s3_class(long, "bayesbem_outputs_fit")
+  expect_true(bayesbem:::is_several(long))
   expect_identical(posterior::as_draws_array(output_fit(long, "electricity")),
                    posterior::as_draws_array(one))
   expect_identical(posterior::as_draws_array(output_fit(long, 1)), posterior::as_draws_array(one))
@@ -96,22 +96,29 @@ test_that("one output in a long table gives the one-output fit, draw for draw", 
 test_that("a fit on two outputs: shared draws, each output a fit of its own", {
   skip_on_cran()
   fit <- two_output_fit()
-  full <- fit$stanfit
-  for (k in 1:2) {
+  full <- posterior::as_draws_matrix(fit$draws)
+  # every variable once: the shared ones plain, each output's own prefixed
+  variables <- posterior::variables(fit$draws)
+  expect_false(anyDuplicated(variables) > 0)
+  expect_true(all(c("tf[1]", "lp__", "electricity:lambda_e", "gas:lambda_e",
+                    "gas:rho_delta[1]") %in% variables))
+  for (k in c("electricity", "gas")) {
     one <- output_fit(fit, k)
     expect_s3_class(one, "bayesbem_fit")
-    expect_identical(as.matrix(one$stanfit, pars = "tf"), as.matrix(full, pars = "tf"))
-    expect_identical(unname(as.matrix(one$stanfit, pars = "lambda_e")[, 1]),
-                     unname(as.matrix(full, pars = "lambda_e")[, k]))
+    # an output's view: the shared draws and its own, as a one-output fit names them
+    expect_identical(bayesbem:::stan_draws(one, "tf"), unname_draws(full[, c("tf[1]", "tf[2]")]))
+    expect_identical(as.vector(bayesbem:::stan_draws(one, "lambda_e")),
+                     as.vector(full[, paste0(k, ":lambda_e")]))
     p <- one$data$p
-    expect_identical(unname(as.matrix(one$stanfit, pars = "rho_delta")),
-                     unname(as.matrix(full, pars = "rho_delta")[, (k - 1) * p + seq_len(p)]))
-    expect_identical(unname(as.matrix(one$stanfit, pars = "lambda_eta")[, 1]),
-                     rep(one$emulator$lambda_eta, nrow(as.matrix(full, pars = "tf"))))
-    expect_identical(rstan::get_sampler_params(one$stanfit), rstan::get_sampler_params(full))
+    expect_identical(as.vector(bayesbem:::stan_draws(one, "rho_delta")),
+                     as.vector(full[, sprintf("%s:rho_delta[%d]", k, seq_len(p))]))
+    expect_identical(as.vector(bayesbem:::stan_draws(one, "lambda_eta")),
+                     rep(one$emulator$lambda_eta, nrow(full)))
+    expect_identical(one$sampler, fit$sampler)
     # the chains' starting values, as a one-output fit records them
-    expect_identical(one$stanfit@inits[[2]]$lambda_e, as.vector(full@inits[[2]]$lambda_e)[k])
-    expect_identical(one$stanfit@inits[[2]]$tf, full@inits[[2]]$tf)
+    j <- match(k, c("electricity", "gas"))
+    expect_identical(one$inits[[2]]$lambda_e, as.vector(fit$inits[[2]]$lambda_e)[j])
+    expect_identical(one$inits[[2]]$tf, fit$inits[[2]]$tf)
   }
   conv <- check_convergence(fit, warn = FALSE)
   expect_true(all(c("electricity:lambda_e", "gas:lambda_e", "equipment_power_density") %in%

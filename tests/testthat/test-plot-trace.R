@@ -12,7 +12,7 @@ test_that("plot_trace() draws the paper's Fig 7", {
   skip_if_not_installed("vdiffr")
   fit <- seb_fit
   d <- plot_trace_data(fit, variables = "lambda_e")
-  expect_equal(d$value[d$chain == 2], as.vector(as.matrix(fit$stanfit, pars = "lambda_e")[201:400]))
+  expect_equal(d$value[d$chain == 2], as.vector(bayesbem:::stan_draws(fit, "lambda_e")[201:400]))
   vdiffr::expect_doppelganger(
     "trace",
     plot_trace(fit, variables = c("equipment_power_density", "beta_eta[temp]", "lambda_e"))

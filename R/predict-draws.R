@@ -1,0 +1,101 @@
+# The draws predictions are made of: y, eta and delta at new inputs jointly
+# per posterior draw, the inputs they are made at and the measured outputs
+# they are compared with.
+
+# Draws (rows) by points (columns) of y, eta and delta in physical units,
+# sampled jointly per posterior draw so that y = eta + delta (+ noise); and
+# the tf draws (rows, [0, 1] scale) they were conditioned on.
+predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE) {
+  data <- fit$data
+  g <- gp_geometry(data, scale_newdata(data, newdata), fit_structure(fit))
+  pars <- draw_parameters(fit, ndraws)
+  n_new <- nrow(newdata)
+  joint <- vapply(pars, function(par) {
+    cond <- koh_conditional(g, par)
+    rmvnorm_psd(cond$mean, cond$cov)
+  }, numeric(2 * n_new))
+  joint <- matrix(joint, nrow = 2 * n_new)
+  eta <- t(joint[seq_len(n_new), , drop = FALSE])
+  delta <- t(joint[n_new + seq_len(n_new), , drop = FALSE])
+  if (length(data$covariates) > 0L) {
+    gamma <- do.call(rbind, lapply(pars, `[[`, "gamma"))
+    delta <- delta + gamma %*% t(scale_covariates(data, newdata))
+  }
+  y <- eta + delta
+  if (noise) {
+    sd_e <- 1 / sqrt(vapply(pars, `[[`, numeric(1), "lambda_e"))
+    y <- y + matrix(stats::rnorm(length(y), sd = sd_e), nrow(y))
+  }
+  s <- data$scaling
+  list(y = unscale_y(y, s), eta = unscale_y(eta, s), delta = unscale_y_spread(delta, s),
+       tf = do.call(rbind, lapply(pars, `[[`, "tf")))
+}
+
+# The likelihood structure a fit was made with (fits made before 0.2.0 are dense).
+fit_structure <- function(fit) {
+  fit$settings$structure %||% "dense"
+}
+
+sampled_predictions <- function(fit, newdata, type, call = rlang::caller_env()) {
+  if (is.null(fit$predict_at)) {
+    abort_bayesbem(c("This fit has no predictions sampled in Stan.",
+                     i = "Calibrate with {.code predict_at = <data frame of inputs>}, or use {.code method = \"conditional\"}."),
+                   "argument", call = call)
+  }
+  if (!is.null(newdata) || type != "y") {
+    abort_bayesbem(c("{.code method = \"sampled\"} gives {.code type = \"y\"} at the fit's {.arg predict_at} inputs only.",
+                     i = "Leave {.arg newdata} empty, or use {.code method = \"conditional\"}."),
+                   "argument", call = call)
+  }
+  unscale_y(stan_draws(fit, "y_pred"), fit$data$scaling)
+}
+
+# The field rows' observable inputs, and the covariates of any discrepancy terms.
+field_inputs <- function(data) {
+  x <- data$field[data$names$x]
+  extra <- data$covariates[setdiff(names(data$covariates), names(x))]
+  if (length(extra) > 0L) cbind(x, extra) else x
+}
+
+# The covariates of a fit's discrepancy terms at `newdata`, scaled as in the fit.
+scale_covariates <- function(data, newdata, call = rlang::caller_env()) {
+  needed <- names(data$covariates)
+  # region terms added by extend() are rebuilt from their names
+  for (name in setdiff(needed, names(newdata))) {
+    values <- region_values(name, newdata)
+    if (!is.null(values)) newdata[[name]] <- values
+  }
+  missing <- setdiff(needed, names(newdata))
+  if (length(missing) > 0L) {
+    abort_bayesbem(c("{.arg newdata} has no column{?s} {.field {missing}}.",
+                     i = "This fit has discrepancy terms in {.field {needed}}: give their values too."),
+                   "columns", call = call)
+  }
+  check_numeric_complete(newdata, needed, "newdata", call = call)
+  sweep(as.matrix(newdata[needed]), 2, data$h_scale, "/")
+}
+
+# Inputs and measured outputs to compare predictions with: the field data by
+# default, otherwise `newdata` with `obs` (NA when not given).
+prediction_set <- function(fit, newdata, obs, call = rlang::caller_env()) {
+  if (is.null(newdata)) {
+    return(list(x = field_inputs(fit$data), obs = fit$data$field[[fit$data$names$y]]))
+  }
+  if (!is.null(obs) && (!is.numeric(obs) || length(obs) != NROW(newdata))) {
+    abort_bayesbem(c("{.arg obs} must be numeric with one value per row of {.arg newdata}.",
+                     x = "It has {length(obs)} value{?s} for {NROW(newdata)} row{?s}."),
+                   "argument", call = call)
+  }
+  list(x = newdata, obs = obs %||% rep(NA_real_, NROW(newdata)))
+}
+
+# The training set, and a held-out set when both `newdata` and `obs` are given.
+evaluation_sets <- function(fit, newdata, obs, call = rlang::caller_env()) {
+  if (xor(is.null(newdata), is.null(obs))) {
+    abort_bayesbem("Give both {.arg newdata} and {.arg obs} for held-out data, or neither.",
+                   "argument", call = call)
+  }
+  sets <- list(training = prediction_set(fit, NULL, NULL))
+  if (!is.null(newdata)) sets[["held-out"]] <- prediction_set(fit, newdata, obs, call = call)
+  sets
+}
