@@ -41,9 +41,7 @@ plot.bayesbem_discrepancy <- function(x, ...) {
 #' @rdname plot_discrepancy
 #' @export
 plot_discrepancy_data <- function(x) {
-  if (!inherits(x, "bayesbem_discrepancy")) {
-    abort_bayesbem("{.arg x} must be made by {.fn discrepancy}.", "argument")
-  }
+  check_plotted(x, "bayesbem_discrepancy", "discrepancy")
   x_names <- setdiff(names(x), c("point", "obs", "flag",
                                  grep("^(delta|residual|band)_", names(x), value = TRUE)))
   share <- function(v) 100 * v / share_scale(x$obs)

@@ -40,10 +40,7 @@ plot.bayesbem_emulator_check <- function(x, ...) {
 #' @rdname plot_emulator_check
 #' @export
 plot_emulator_check_data <- function(x) {
-  if (!inherits(x, "bayesbem_emulator_check")) {
-    abort_bayesbem("{.arg x} must come from {.fn validate_emulator}, not {describe_value(x)}.",
-                   "argument")
-  }
+  check_plotted(x, "bayesbem_emulator_check", "validate_emulator")
   d <- x$table
   draws <- sort(unique(d$draw))
   offset <- if (length(draws) > 1L) (match(d$draw, draws) - 1) / (length(draws) - 1) - 0.5 else 0

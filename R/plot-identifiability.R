@@ -42,10 +42,7 @@ plot.bayesbem_identifiability <- function(x, ...) {
 #' @rdname plot_identifiability
 #' @export
 plot_identifiability_data <- function(x) {
-  if (!inherits(x, "bayesbem_identifiability")) {
-    abort_bayesbem("{.arg x} must come from {.fn identifiability}, not {describe_value(x)}.",
-                   "argument")
-  }
+  check_plotted(x, "bayesbem_identifiability", "identifiability")
   d <- as.data.frame(unclass(x))
   d$abs_shift <- pmax(abs(d$shift), 0.01)
   d$verdict <- factor(d$verdict, levels = c("learnt", "partly learnt", "prior-driven",

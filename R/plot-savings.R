@@ -44,10 +44,7 @@ plot.bayesbem_savings <- function(x, ...) plot_savings(x, ...)
 #' @export
 plot_savings_data <- function(x, ...) {
   rlang::check_dots_empty()
-  if (!inherits(x, "bayesbem_savings")) {
-    abort_bayesbem("{.arg x} must be savings from {.fn savings}, not {describe_value(x)}.",
-                   "argument")
-  }
+  check_plotted(x, "bayesbem_savings", "savings")
   n <- ncol(x$savings)
   total <- rowSums(x$savings)
   structure(data.frame(period = factor(seq_len(n)), box_stats(x$savings),

@@ -30,7 +30,7 @@ plot_parameter_study <- function(x) {
 #' @rdname plot_parameter_study
 #' @export
 plot_parameter_study_data <- function(x) {
-  check_study(x, "bayesbem_parameter_study")
+  check_plotted(x, "bayesbem_parameter_study", "study_parameters")
   d <- x$posteriors
   d$k <- factor(d$k, levels = paste("k =", x$k), labels = x$k)
   d$parameter <- factor(d$parameter, levels = x$ranking[x$ranking %in% d$parameter])
@@ -79,7 +79,7 @@ plot_prior_study <- function(x) {
 #' @rdname plot_prior_study
 #' @export
 plot_prior_study_data <- function(x) {
-  check_study(x, "bayesbem_prior_study")
+  check_plotted(x, "bayesbem_prior_study", "study_priors")
   x$densities
 }
 
@@ -88,13 +88,4 @@ plot_prior_study_data <- function(x) {
 plot.bayesbem_prior_study <- function(x, ...) {
   rlang::check_dots_empty()
   plot_prior_study(x)
-}
-
-# Stops unless `x` is a study of `class`.
-check_study <- function(x, class, arg = rlang::caller_arg(x), call = rlang::caller_env()) {
-  if (!inherits(x, class)) {
-    abort_bayesbem(c("{.arg {arg}} must be a {.cls {class}}.",
-                     x = "It is {.obj_type_friendly {x}}."),
-                   "argument", call = call)
-  }
 }

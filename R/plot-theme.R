@@ -30,6 +30,16 @@ theme_bayesbem <- function(legend = NULL) {
   theme
 }
 
+# Stops unless `x`, the object a plot draws, is of `class`: a result of
+# `maker` (a function's name).
+check_plotted <- function(x, class, maker, arg = rlang::caller_arg(x),
+                          call = rlang::caller_env()) {
+  if (!inherits(x, class)) {
+    abort_bayesbem("{.arg {arg}} must come from {.fn {maker}}, not {describe_value(x)}.",
+                   "argument", call = call)
+  }
+}
+
 # Box-plot statistics of each column of a draws matrix: whiskers at the 5 %
 # and 95 % quantiles, box at the quartiles.
 box_stats <- function(draws) {
