@@ -17,7 +17,8 @@
 #' its region move it; repeat while the posterior still moves
 #' ([refine_emulator()] does).
 #'
-#' @param fit A `bayesbem_fit`.
+#' @param fit A `bayesbem_fit`, of one output or several (whose outputs
+#'   share the calibration parameters and their runs).
 #' @param n Number of runs.
 #' @param level Probability mass of the central posterior interval each
 #'   parameter's runs span.
@@ -36,9 +37,11 @@
 #' }
 design_posterior <- function(fit, n, level = 0.9, seed = NULL, ...) {
   rlang::check_dots_empty()
-  check_fit(fit)
+  check_fit(fit, several = TRUE)
   check_run_count(n)
   check_probability(level)
+  # the calibration parameters and their scales are every output's
+  fit <- output_fit_list(fit)[[1]]
   # tf is on the emulator's [0, 1] scale, so quantiles and strata are too
   tf <- stan_draws(fit, "tf")
   ends <- apply(tf, 2, stats::quantile, c(1 - level, 1 + level) / 2)

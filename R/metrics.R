@@ -101,7 +101,9 @@ check_held_out <- function(newdata, obs, data, call = rlang::caller_env()) {
 #' for daily or weekly data; `by = "day"` or `"week"` applies the hourly ones,
 #' the limits the Guideline gives for data finer than monthly.
 #'
-#' @param fit A `bayesbem_fit`.
+#' @param fit A `bayesbem_fit`; on several outputs, each output's metrics on
+#'   its training data, with a first column `output` (held-out data and
+#'   simulators are given output by output, on [output_fit()]).
 #' @param newdata Held-out periods: a data frame of observable inputs (the
 #'   field inputs' columns; predicted through the emulator), or a
 #'   [scenario()] or simulator for them (predicted through the simulator,
@@ -128,6 +130,10 @@ calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                                 by = c("month", "week", "day", "hour"),
                                 simulator = NULL, ndraws = NULL, cache_dir = NULL) {
   by <- match_choice(by)
+  check_fit(fit, several = TRUE)
+  if (is_several(fit)) {
+    return(outputs_metrics(fit, newdata, obs, by, simulator, ndraws))
+  }
   limits <- if (by == "month") c(15, 5) else c(30, 10)
   check_both_or_neither(newdata, obs)
   sets <- list(training = training_predictions(fit, simulator, ndraws, cache_dir))
@@ -142,6 +148,21 @@ calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
       data.frame(set = set, prediction = what, route = p$route, n = length(p$obs),
                  cvrmse = cv, nmbe = nb, calibrated = cv <= limits[1] && abs(nb) <= limits[2])
     }))
+  })
+  structure(do.call(rbind, rows), class = c("bayesbem_metrics", "data.frame"))
+}
+
+# calibration_metrics() of each output of a fit on several outputs, on its
+# training data, with a first column `output`. Held-out data and simulators
+# are an output's own, so they are given output by output.
+outputs_metrics <- function(fit, newdata, obs, by, simulator, ndraws, call = rlang::caller_env()) {
+  if (!is.null(newdata) || !is.null(obs) || !is.null(simulator)) {
+    abort_bayesbem(c("On a fit on several outputs, held-out data and simulators are an output's own.",
+                     i = "Give them output by output: {.code calibration_metrics(output_fit(fit, \"{names(fit$outputs)[1]}\"), ...)}."),
+                   "argument", call = call)
+  }
+  rows <- lapply(names(fit$outputs), function(k) {
+    data.frame(output = k, calibration_metrics(fit$outputs[[k]], by = by, ndraws = ndraws))
   })
   structure(do.call(rbind, rows), class = c("bayesbem_metrics", "data.frame"))
 }

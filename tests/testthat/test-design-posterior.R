@@ -27,3 +27,10 @@ test_that("design_posterior() rejects bad arguments with classed errors", {
   expect_error(design_posterior(seb_fit, n = 5, levle = 0.5), class = "rlang_error")
   expect_error(design_posterior(list(), n = 5), class = "bayesbem_error_argument")
 })
+
+test_that("a fit on several outputs gets one design of the parameters they share", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  expect_identical(design_posterior(fit, n = 6, seed = 2),
+                   design_posterior(output_fit(fit, "gas"), n = 6, seed = 2))
+})

@@ -95,3 +95,18 @@ test_that("held-out periods without a measurement are left out", {
   expect_error(calibration_metrics(seb_fit, newdata = sim, obs = rep(NA_real_, 12)),
                class = "bayesbem_error_argument")
 })
+
+test_that("a fit on several outputs gets each output's metrics, with a column output", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  withr::local_seed(4)
+  m <- calibration_metrics(fit, ndraws = 20)
+  expect_s3_class(m, "bayesbem_metrics")
+  expect_equal(unique(m$output), c("electricity", "gas"))
+  withr::local_seed(4)
+  own <- calibration_metrics(output_fit(fit, "electricity"), ndraws = 20)
+  expect_equal(m$cvrmse[m$output == "electricity"], own$cvrmse)
+  expect_output(print(m), "gas")
+  expect_error(calibration_metrics(fit, newdata = seb_field, obs = seb_field$y),
+               class = "bayesbem_error_argument")
+})
