@@ -23,9 +23,11 @@
 #' points with almost no use (gas in summer) do not get enormous or infinite
 #' shares.
 #'
-#' @param fit A `bayesbem_fit`.
+#' @param fit A `bayesbem_fit`; on several outputs, each output's
+#'   discrepancy on its field data, with a first column `output`.
 #' @param newdata,obs Observable inputs and measured outputs to examine;
-#'   default: the field data the model was calibrated on.
+#'   default: the field data the model was calibrated on (on several
+#'   outputs, given output by output on [output_fit()]).
 #' @param level Probability of the pointwise intervals and of the
 #'   simultaneous band.
 #' @template args-ndraws
@@ -43,8 +45,11 @@
 #' d
 #' plot_discrepancy(d)
 discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = NULL) {
-  check_fit(fit)
+  check_fit(fit, several = TRUE)
   check_probability(level)
+  if (is_several(fit)) {
+    return(outputs_discrepancy(fit, newdata, obs, level, ndraws))
+  }
   if (!is.null(newdata) && is.null(obs)) {
     abort_bayesbem("Give {.arg obs}, the measured outputs at {.arg newdata}.", "argument")
   }
@@ -68,6 +73,24 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
   out$flag <- out$band_lower > 0 | out$band_upper < 0
   structure(out, class = c("bayesbem_discrepancy", "data.frame"), level = level,
             critical = band$critical, verdict = discrepancy_verdict(out, level))
+}
+
+# discrepancy() of each output of a fit on several outputs, on its field
+# data, stacked with a first column `output`; each output's band is its own
+# (`attr(, "critical")` by output), the verdict one line per output.
+outputs_discrepancy <- function(fit, newdata, obs, level, ndraws, call = rlang::caller_env()) {
+  if (!is.null(newdata) || !is.null(obs)) {
+    abort_bayesbem(c("On a fit on several outputs, other data are an output's own.",
+                     i = "Give them output by output: {.code discrepancy(output_fit(fit, \"{names(fit$outputs)[1]}\"), ...)}."),
+                   "argument", call = call)
+  }
+  parts <- lapply(fit$outputs, discrepancy, level = level, ndraws = ndraws)
+  out <- do.call(rbind, Map(function(k, d) data.frame(output = k, d), names(parts), parts))
+  rownames(out) <- NULL
+  structure(out, class = c("bayesbem_discrepancy", "data.frame"), level = level,
+            critical = vapply(parts, attr, numeric(1), "critical"),
+            verdict = paste(sprintf("%s: %s", names(parts), vapply(parts, attr, "", "verdict")),
+                            collapse = "\n"))
 }
 
 # Simultaneous band of the columns of a draws matrix: mean +/- c sd, with c

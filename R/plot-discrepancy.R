@@ -10,7 +10,9 @@
 #' @param x A `bayesbem_discrepancy` from [discrepancy()].
 #' @return `plot_discrepancy()` (and `plot(x)`): a ggplot. `plot_discrepancy_data()`: a data
 #'   frame with `along` (the input, or `"point order"`), `position`, `point`,
-#'   `mean`, `lower`, `upper` (the band; percent of the output) and `flag`.
+#'   `mean`, `lower`, `upper` (the band; percent of the output) and `flag`;
+#'   on several outputs, a first column `output` and a row of panels per
+#'   output.
 #' @family discrepancy
 #' @family plots
 #' @export
@@ -20,10 +22,15 @@
 #' head(plot_discrepancy_data(d))
 plot_discrepancy <- function(x) {
   d <- plot_discrepancy_data(x)
+  facets <- if (is.null(d$output)) {
+    ggplot2::facet_wrap(ggplot2::vars(.data$along), scales = "free_x")
+  } else {
+    ggplot2::facet_grid(ggplot2::vars(.data$output), ggplot2::vars(.data$along), scales = "free")
+  }
   ggplot2::ggplot(d, ggplot2::aes(.data$position, .data$mean, colour = .data$flag)) +
     ggplot2::geom_hline(yintercept = 0, colour = colour_of("reference")) +
     ggplot2::geom_pointrange(ggplot2::aes(ymin = .data$lower, ymax = .data$upper)) +
-    ggplot2::facet_wrap(ggplot2::vars(.data$along), scales = "free_x") +
+    facets +
     ggplot2::scale_colour_manual(values = c(`FALSE` = colour_of("model"), `TRUE` = colour_of("data")),
                                  labels = c(`FALSE` = "interval contains 0",
                                             `TRUE` = "interval excludes 0")) +
@@ -42,6 +49,18 @@ plot.bayesbem_discrepancy <- function(x, ...) {
 #' @export
 plot_discrepancy_data <- function(x) {
   check_plotted(x, "bayesbem_discrepancy", "discrepancy")
+  if (is.null(x$output)) {
+    return(discrepancy_plot_rows(x))
+  }
+  # several outputs: each on its own shares, a first column `output`
+  rows <- lapply(unique(x$output), function(k) {
+    data.frame(output = k, discrepancy_plot_rows(x[x$output == k, names(x) != "output"]))
+  })
+  do.call(rbind, rows)
+}
+
+# plot_discrepancy_data() of one output's rows.
+discrepancy_plot_rows <- function(x) {
   x_names <- setdiff(names(x), c("point", "obs", "flag",
                                  grep("^(delta|residual|band)_", names(x), value = TRUE)))
   share <- function(v) 100 * v / share_scale(x$obs)
