@@ -63,3 +63,14 @@ counting_simulator <- function(counter, sim = two_output_simulator()) {
 unname_draws <- function(d) {
   array(as.vector(d), dim(d), list(NULL, colnames(d)))
 }
+
+# A verb's table on two_output_fit() (`all`, checked to have a first column
+# output naming both outputs) and on its electricity view (`own`), from the
+# same random numbers.
+on_both_outputs <- function(verb, seed, ...) {
+  fit <- two_output_fit()
+  all <- withr::with_seed(seed, verb(fit, ...))
+  testthat::expect_equal(unique(all$output), c("electricity", "gas"))
+  own <- withr::with_seed(seed, verb(output_fit(fit, "electricity"), ...))
+  list(fit = fit, all = all, own = own, electricity = all$output == "electricity")
+}

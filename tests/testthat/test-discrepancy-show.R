@@ -54,20 +54,17 @@ test_that("shares stay finite where the output is near zero", {
 
 test_that("a fit on several outputs gets each output's discrepancy, with its own band", {
   skip_on_cran()
-  fit <- two_output_fit()
-  withr::local_seed(3)
-  d <- discrepancy(fit, ndraws = 40)
+  both <- on_both_outputs(discrepancy, 3, ndraws = 40)
+  d <- both$all
+  own <- both$own
   expect_s3_class(d, "bayesbem_discrepancy")
-  expect_equal(unique(d$output), c("electricity", "gas"))
-  withr::local_seed(3)
-  own <- discrepancy(output_fit(fit, "electricity"), ndraws = 40)
-  expect_equal(d$residual_mean[d$output == "electricity"], own$residual_mean)
+  expect_equal(d$residual_mean[both$electricity], own$residual_mean)
   expect_named(attr(d, "critical"), c("electricity", "gas"))
   expect_match(attr(d, "verdict"), "^electricity: .*\ngas: ")
   pd <- plot_discrepancy_data(d)
   expect_equal(unique(pd$output), c("electricity", "gas"))
   expect_equal(pd$mean[pd$output == "electricity"], plot_discrepancy_data(own)$mean)
   expect_s3_class(plot_discrepancy(d), "ggplot")
-  expect_error(discrepancy(fit, newdata = seb_field[1:2, ], obs = c(1, 2)),
+  expect_error(discrepancy(both$fit, newdata = seb_field[1:2, ], obs = c(1, 2)),
                class = "bayesbem_error_argument")
 })

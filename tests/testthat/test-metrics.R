@@ -98,15 +98,10 @@ test_that("held-out periods without a measurement are left out", {
 
 test_that("a fit on several outputs gets each output's metrics, with a column output", {
   skip_on_cran()
-  fit <- two_output_fit()
-  withr::local_seed(4)
-  m <- calibration_metrics(fit, ndraws = 20)
-  expect_s3_class(m, "bayesbem_metrics")
-  expect_equal(unique(m$output), c("electricity", "gas"))
-  withr::local_seed(4)
-  own <- calibration_metrics(output_fit(fit, "electricity"), ndraws = 20)
-  expect_equal(m$cvrmse[m$output == "electricity"], own$cvrmse)
-  expect_output(print(m), "gas")
-  expect_error(calibration_metrics(fit, newdata = seb_field, obs = seb_field$y),
+  both <- on_both_outputs(calibration_metrics, 4, ndraws = 20)
+  expect_s3_class(both$all, "bayesbem_metrics")
+  expect_equal(both$all$cvrmse[both$electricity], both$own$cvrmse)
+  expect_output(print(both$all), "gas")
+  expect_error(calibration_metrics(both$fit, newdata = seb_field, obs = seb_field$y),
                class = "bayesbem_error_argument")
 })
