@@ -79,15 +79,10 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
 # data, stacked with a first column `output`; each output's band is its own
 # (`attr(, "critical")` by output), the verdict one line per output.
 outputs_discrepancy <- function(fit, newdata, obs, level, ndraws, call = rlang::caller_env()) {
-  if (!is.null(newdata) || !is.null(obs)) {
-    abort_bayesbem(c("On a fit on several outputs, other data are an output's own.",
-                     i = "Give them output by output: {.code discrepancy(output_fit(fit, \"{names(fit$outputs)[1]}\"), ...)}."),
-                   "argument", call = call)
-  }
-  parts <- lapply(fit$outputs, discrepancy, level = level, ndraws = ndraws)
-  out <- do.call(rbind, Map(function(k, d) data.frame(output = k, d), names(parts), parts))
-  rownames(out) <- NULL
-  structure(out, class = c("bayesbem_discrepancy", "data.frame"), level = level,
+  each <- output_results(fit, discrepancy, list(newdata = newdata, obs = obs),
+                         level = level, ndraws = ndraws, call = call)
+  parts <- each$results
+  structure(each$table, class = c("bayesbem_discrepancy", "data.frame"), level = level,
             critical = vapply(parts, attr, numeric(1), "critical"),
             verdict = paste(sprintf("%s: %s", names(parts), vapply(parts, attr, "", "verdict")),
                             collapse = "\n"))

@@ -12,14 +12,14 @@
 # Output `k`'s view of a fit on several outputs: a one-output fit whose
 # draws are the shared variables and the output's own, the prefix dropped
 # (posterior's subset_draws()), with the output's data, its emulator and
-# each chain's starting values reduced to its elements.
-output_view <- function(fit, k, emulator) {
+# each chain's starting values reduced to its elements (`part`, its
+# output_parts()).
+output_view <- function(fit, k, emulator, part) {
   prefix <- paste0(k, ":")
   variables <- posterior::variables(fit$draws)
   keep <- startsWith(variables, prefix) | !grepl(":", variables, fixed = TRUE)
   draws <- posterior::subset_draws(fit$draws, variable = variables[keep])
   posterior::variables(draws) <- sub(prefix, "", posterior::variables(draws), fixed = TRUE)
-  part <- output_parts(fit$data, fit$emulator)[[k]]
   inits <- lapply(fit$inits, function(chain) {
     for (par in intersect(names(chain), names(part$elements))) {
       kept <- as.vector(chain[[par]])[part$elements[[par]]]
@@ -34,9 +34,30 @@ output_view <- function(fit, k, emulator) {
 # A fit on several outputs with each output's view, by name.
 with_output_views <- function(fit) {
   emulators <- output_emulators(fit$data, fit$emulator)
+  parts <- output_parts(fit$data, fit$emulator)
   k <- names(fit$data$outputs)
-  fit$outputs <- stats::setNames(Map(function(k, em) output_view(fit, k, em), k, emulators), k)
+  fit$outputs <- stats::setNames(Map(function(k, em, part) output_view(fit, k, em, part),
+                                     k, emulators, parts[k]), k)
   fit
+}
+
+# A tool's result for each output of a fit on several outputs, by output,
+# and their tables stacked with a first column `output`. Data other than
+# the fit's own (held-out periods, simulators) are an output's own, so a
+# tool given any (`given`, its arguments by name) says to go output by
+# output.
+output_results <- function(fit, tool, given, ..., call = rlang::caller_env()) {
+  given <- Filter(Negate(is.null), given)
+  if (length(given) > 0L) {
+    fn <- rlang::as_label(rlang::enexpr(tool))
+    abort_bayesbem(c("On a fit on several outputs, {.arg {names(given)}} belong{?s/} to one output.",
+                     i = "Give such data output by output, to an output's view: {.code {fn}(output_fit(fit, \"{names(fit$outputs)[1]}\"), ...)}."),
+                   "argument", call = call)
+  }
+  results <- lapply(fit$outputs, tool, ...)
+  table <- do.call(rbind, Map(function(k, r) data.frame(output = k, r), names(results), results))
+  rownames(table) <- NULL
+  list(results = results, table = table)
 }
 
 # The one-output fits of a fit: its outputs' views, or the fit itself.

@@ -156,15 +156,10 @@ calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
 # training data, with a first column `output`. Held-out data and simulators
 # are an output's own, so they are given output by output.
 outputs_metrics <- function(fit, newdata, obs, by, simulator, ndraws, call = rlang::caller_env()) {
-  if (!is.null(newdata) || !is.null(obs) || !is.null(simulator)) {
-    abort_bayesbem(c("On a fit on several outputs, held-out data and simulators are an output's own.",
-                     i = "Give them output by output: {.code calibration_metrics(output_fit(fit, \"{names(fit$outputs)[1]}\"), ...)}."),
-                   "argument", call = call)
-  }
-  rows <- lapply(names(fit$outputs), function(k) {
-    data.frame(output = k, calibration_metrics(fit$outputs[[k]], by = by, ndraws = ndraws))
-  })
-  structure(do.call(rbind, rows), class = c("bayesbem_metrics", "data.frame"))
+  each <- output_results(fit, calibration_metrics,
+                         list(newdata = newdata, obs = obs, simulator = simulator),
+                         by = by, ndraws = ndraws, call = call)
+  structure(each$table, class = c("bayesbem_metrics", "data.frame"))
 }
 
 # Posterior means of the simulator part and of the calibrated prediction at
