@@ -37,7 +37,7 @@
 #' }
 design_posterior <- function(fit, n, level = 0.9, seed = NULL, ...) {
   rlang::check_dots_empty()
-  check_fit(fit, several = TRUE)
+  check_fit(fit)
   check_run_count(n)
   check_probability(level)
   # the calibration parameters and their scales are every output's

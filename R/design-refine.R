@@ -26,6 +26,11 @@
 #' the observable inputs' values): a simulator over more periods serves, one
 #' that lacks some of them is an error (class `bayesbem_error_simulator`).
 #'
+#' On a fit on several outputs the simulator gives every output: each
+#' round's runs serve them all, and the emulator is trusted when every
+#' output's is (`max_shift` the largest, `coverage` the lowest of the
+#' outputs').
+#'
 #' @param fit A `bayesbem_fit` from [calibrate()].
 #' @param simulator The `bayesbem_simulator` whose runs the fit was
 #'   calibrated on.
@@ -65,21 +70,19 @@ refine_emulator <- function(fit, simulator, n = 10, rounds = 3, ndraws = 40, lev
   check_run_count(n)
   check_count(rounds)
   if (!is.null(seed)) check_count(seed)
-  checks <- list(validate_emulator(fit, simulator, ndraws, level, cache_dir))
+  check <- function(fit) check_outcome(validate_emulator(fit, simulator, ndraws, level, cache_dir))
+  checks <- list(check(fit))
   run_counts <- run_count(fit$data)
   done <- 0L
   while (!checks[[length(checks)]]$trusted && done < rounds) {
     done <- done + 1L
     design <- design_posterior(fit, n, level, seed = if (!is.null(seed)) seed + done - 1L)
     added <- simulate_design(simulator, design, cache_dir = cache_dir)
-    runs <- rbind(fit$data$sim, refinement_runs(fit$data, added))
-    cli::cli_inform(c(i = "Round {done}: {nrow(design)} run{?s} where the posterior lies; calibrating again on {nrow(runs)} simulation rows."),
+    data <- refined_data(fit, added)
+    cli::cli_inform(c(i = "Round {done}: {nrow(design)} run{?s} where the posterior lies; calibrating again on {run_count(data)} runs."),
                     class = "bayesbem_message_refine")
-    names <- fit$data$names
-    data <- koh_data(field_table(fit$data), runs, y = names$y, eta = names$eta, t = names$t,
-                     period = names$period, scales = t_scales(fit$data$scaling))
     fit <- refit(fit, field = data)
-    checks[[length(checks) + 1L]] <- validate_emulator(fit, simulator, ndraws, level, cache_dir)
+    checks[[length(checks) + 1L]] <- check(fit)
     run_counts <- c(run_counts, run_count(data))
   }
   last <- checks[[length(checks)]]
@@ -90,8 +93,55 @@ refine_emulator <- function(fit, simulator, n = 10, rounds = 3, ndraws = 40, lev
                   "emulator")
   }
   fit$refinement <- refinement_table(checks, run_counts)
-  fit$checks <- checks
+  fit$checks <- lapply(checks, `[[`, "check")
   fit
+}
+
+# A validate_emulator() result, of one output or several (trusted when
+# every output's emulator is: the largest shift, the lowest coverage).
+check_outcome <- function(check) {
+  each <- if (inherits(check, "bayesbem_emulator_checks")) check else list(check)
+  verdicts <- vapply(each, `[[`, character(1), "verdict")
+  if (length(each) > 1L) verdicts <- paste0(names(each), ": ", verdicts)
+  list(check = check, trusted = all(vapply(each, `[[`, logical(1), "trusted")),
+       verdict = paste(verdicts, collapse = " "),
+       max_shift = max(vapply(each, function(ch) max(abs(ch$shift$shift)), numeric(1))),
+       coverage = min(vapply(each, `[[`, numeric(1), "coverage")))
+}
+
+# The fit's data with the added runs (simulate_design()'s, of every
+# output on several) at the fit's simulation periods, each parameter on the
+# fit's scale.
+refined_data <- function(fit, added, call = rlang::caller_env()) {
+  data <- fit$data
+  if (!is_several(fit)) {
+    runs <- rbind(data$sim, refinement_runs(data, added, call))
+    names <- data$names
+    return(koh_data(field_table(data), runs, y = names$y, eta = names$eta, t = names$t,
+                    period = names$period, scales = t_scales(data$scaling)))
+  }
+  column <- data$output
+  outputs <- names(data$outputs)
+  if (!"output" %in% names(added) || !all(outputs %in% added$output)) {
+    abort_bayesbem(c("The simulator's runs lack some of the fit's outputs, {.val {outputs}}.",
+                     i = "Use the simulator whose runs the fit was calibrated on: one that gives every output."),
+                   "simulator", call = call)
+  }
+  long <- function(side) {
+    do.call(rbind, lapply(outputs, function(k) {
+      one <- data$outputs[[k]]
+      rows <- if (side == "field") {
+        field_table(one)
+      } else {
+        own <- added[added$output == k, setdiff(names(added), "output"), drop = FALSE]
+        rbind(one$sim, refinement_runs(one, own, call))
+      }
+      cbind(stats::setNames(data.frame(k), column), rows)
+    }))
+  }
+  names <- data$outputs[[1]]$names
+  koh_data(long("field"), long("sim"), y = names$y, eta = names$eta, t = names$t,
+           period = names$period, scales = t_scales(data$scaling), output = column)
 }
 
 # The added runs in the columns of the fit's runs, at the fit's simulation
@@ -114,8 +164,9 @@ refinement_runs <- function(data, added, call = rlang::caller_env()) {
   added[key(added) %in% periods, names(data$sim), drop = FALSE]
 }
 
-# The number of simulation runs (distinct parameter settings) of a bayesbem_data.
-run_count <- function(data) nrow(unique(data$tc))
+# The number of simulation runs (distinct parameter settings) of a
+# bayesbem_data, or of each output of a bayesbem_outputs (they share them).
+run_count <- function(data) nrow(unique(output_data(data)[[1]]$tc))
 
 # One row per check of refine_emulator().
 refinement_table <- function(checks, run_counts) {
@@ -123,7 +174,7 @@ refinement_table <- function(checks, run_counts) {
     round = seq_along(checks) - 1L,
     runs = run_counts,
     trusted = vapply(checks, `[[`, logical(1), "trusted"),
-    max_shift = vapply(checks, function(ch) max(abs(ch$shift$shift)), numeric(1)),
+    max_shift = vapply(checks, `[[`, numeric(1), "max_shift"),
     coverage = vapply(checks, `[[`, numeric(1), "coverage")
   )
 }

@@ -64,10 +64,11 @@
 #' On a fit on several outputs, with the simulator of them all,
 #' `validate_emulator()` checks each output's emulator against that
 #' output of the same runs (one run per draw serves every output) and
-#' returns the checks in a list by output.
+#' returns the checks in a list by output; `posterior_simulate()` stacks
+#' the outputs' summaries with a first column `output` (or returns the
+#' matrices in a list by output).
 #'
-#' @param fit A `bayesbem_fit`, or for `validate_emulator()` a fit on
-#'   several outputs.
+#' @param fit A `bayesbem_fit`.
 #' @param simulator A `bayesbem_simulator` whose parameters include the
 #'   fit's calibration parameters (others are held at their initial values);
 #'   on several outputs, one that gives them all.
@@ -106,12 +107,10 @@ validate_emulator <- function(fit, simulator, ndraws = 40, level = 0.9, cache_di
   rlang::check_dots_empty()
   check_probability(level)
   if (is_several(fit)) {
-    check_simulator(simulator)
-    shared <- shared_runs(simulator)
-    return(structure(lapply(stats::setNames(names(fit$outputs), names(fit$outputs)), function(k) {
-      validate_emulator(fit$outputs[[k]], output_simulator(shared, k), ndraws = ndraws,
-                        level = level, cache_dir = cache_dir)
-    }), class = "bayesbem_emulator_checks"))
+    checks <- each_output_runs(fit, list(simulator), function(k, fit, simulator) {
+      validate_emulator(fit, simulator, ndraws = ndraws, level = level, cache_dir = cache_dir)
+    })
+    return(structure(checks, class = "bayesbem_emulator_checks"))
   }
   runs <- posterior_runs(fit, simulator, ndraws, cache_dir)
   data <- fit$data
@@ -195,6 +194,16 @@ posterior_simulate <- function(fit, simulator, ndraws = 40, summary = TRUE,
                                level = 0.9, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
   check_bool(summary)
+  if (is_several(fit)) {
+    each <- each_output_runs(fit, list(simulator), function(k, fit, simulator) {
+      posterior_simulate(fit, simulator, ndraws = ndraws, summary = summary, level = level,
+                         cache_dir = cache_dir)
+    })
+    if (!summary) {
+      return(each)
+    }
+    return(stack_outputs(each))
+  }
   runs <- posterior_runs(fit, simulator, ndraws, cache_dir)
   eta <- runs$eta[stats::complete.cases(runs$eta), , drop = FALSE]
   if (!summary) {

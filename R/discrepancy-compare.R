@@ -10,6 +10,12 @@
 #' 2021). Densities are of the output in physical units, so fits with
 #' different simulation tables can be compared.
 #'
+#' On several outputs the points are every output's field rows, each left
+#' out of its own output's data: given the parameters the outputs' data are
+#' independent (each has its own discrepancy and noise), so a row's
+#' leave-one-out density involves its own output's rows only, and the
+#' outputs' draws are paired.
+#'
 #' @param x A `bayesbem_fit`.
 #' @template args-ndraws
 #' @param ... Unused.
@@ -20,7 +26,7 @@
 #' loo::loo(seb_fit, ndraws = 200)
 loo.bayesbem_fit <- function(x, ndraws = NULL, ...) {
   rlang::check_dots_empty()
-  ll <- loo_log_lik(x, ndraws)
+  ll <- do.call(cbind, lapply(output_fit_list(x), loo_log_lik, ndraws = ndraws))
   chains <- kept_chains(x)
   r_eff <- if (is.null(ndraws) && nrow(ll) %% chains == 0L) {
     loo::relative_eff(exp(ll), chain_id = rep(seq_len(chains), each = nrow(ll) / chains))
@@ -57,6 +63,11 @@ loo_log_lik <- function(fit, ndraws = NULL) {
 #'   data, see [simulate_field()]), each parameter's posterior mean minus the
 #'   truth in both fits.
 #'
+#' On fits on several outputs the ELPD is over every output's field rows
+#' ([loo.bayesbem_fit()]), and `metrics` and `discrepancy` have a row per
+#' output (a first column `output`); held-out data are an output's own, so
+#' they are compared output by output ([output_fit()]).
+#'
 #' @param a,b Two `bayesbem_fit`s of the same field outputs.
 #' @param newdata,obs Optional held-out data: a data frame with the
 #'   observable inputs and any covariates of the fits' discrepancy terms, and
@@ -78,28 +89,28 @@ loo_log_lik <- function(fit, ndraws = NULL) {
 compare_fits <- function(a, b, newdata = NULL, obs = NULL, truth = NULL, ndraws = NULL) {
   check_fit(a)
   check_fit(b)
-  y_a <- a$data$field[[a$data$names$y]]
-  if (!identical(y_a, b$data$field[[b$data$names$y]])) {
-    abort_bayesbem(c("{.arg a} and {.arg b} must be fits of the same field outputs.",
-                     i = "Leave-one-out comparisons need the same data; compare other fits on held-out data with {.fn calibration_metrics}."),
-                   "argument")
-  }
+  pairs <- paired_outputs(a, b)
   # loo's Pareto-k warnings are reported as pareto_k_max instead
   loos <- lapply(list(a, b), function(fit) suppressWarnings(loo.bayesbem_fit(fit, ndraws)))
-  pointwise <- vapply(loos, function(l) l$pointwise[, "elpd_loo"], numeric(length(y_a)))
+  pointwise <- vapply(loos, function(l) l$pointwise[, "elpd_loo"], numeric(nrow(loos[[1]]$pointwise)))
   diff <- pointwise[, 2] - pointwise[, 1]
   elpd <- data.frame(elpd_a = sum(pointwise[, 1]), elpd_b = sum(pointwise[, 2]),
                      diff = sum(diff), se = sqrt(length(diff) * stats::var(diff)),
                      pareto_k_max = max(vapply(loos, function(l) max(l$diagnostics$pareto_k),
                                                numeric(1))))
-  delta_sd <- vapply(list(a, b), function(fit) {
-    mean(1 / sqrt(stan_draws(fit, "lambda_delta"))) * fit$data$scaling$y_scale
-  }, numeric(1))
+  if (length(pairs) > 1L && !is.null(newdata)) {
+    abort_bayesbem(c("On fits on several outputs, held-out data belong to one output.",
+                     i = "Compare each output's held-out predictions with {.code calibration_metrics(output_fit(b, \"{names(pairs)[1]}\"), newdata, obs)}."),
+                   "argument")
+  }
+  per_output <- function(tool) {
+    tables <- lapply(pairs, function(pair) tool(pair$a, pair$b))
+    if (length(pairs) > 1L) stack_outputs(tables) else tables[[1]]
+  }
   out <- list(
     elpd = elpd,
-    metrics = comparison_metrics(a, b, newdata, obs, ndraws),
-    discrepancy = data.frame(delta_sd_a = delta_sd[1], delta_sd_b = delta_sd[2],
-                             shrinkage = 1 - delta_sd[2] / delta_sd[1]),
+    metrics = per_output(function(a, b) comparison_metrics(a, b, newdata, obs, ndraws)),
+    discrepancy = per_output(comparison_discrepancy),
     bias = if (!is.null(truth)) comparison_bias(a, b, truth)
   )
   out$verdict <- if (elpd$diff > 2 * elpd$se) {
@@ -113,11 +124,35 @@ compare_fits <- function(a, b, newdata = NULL, obs = NULL, truth = NULL, ndraws 
   structure(out, class = "bayesbem_comparison")
 }
 
+# The one-output fits of `a` and `b`, paired by output: the two fits must
+# have the same outputs and, output by output, the same field data.
+paired_outputs <- function(a, b, call = rlang::caller_env()) {
+  fits <- list(a = output_fit_list(a), b = output_fit_list(b))
+  observed <- function(fits) lapply(fits, function(f) f$data$field[[f$data$names$y]])
+  if (!identical(names(fits$a), names(fits$b)) || !identical(observed(fits$a), observed(fits$b))) {
+    abort_bayesbem(c("{.arg a} and {.arg b} must be fits of the same field outputs.",
+                     i = "Leave-one-out comparisons need the same data; compare other fits on held-out data with {.fn calibration_metrics}."),
+                   "argument", call = call)
+  }
+  k <- names(fits$a) %||% "output"
+  stats::setNames(Map(function(a, b) list(a = a, b = b), fits$a, fits$b), k)
+}
+
 comparison_metrics <- function(a, b, newdata, obs, ndraws, call = rlang::caller_env()) {
   check_held_out(newdata, obs, a$data, call = call)
   rows <- lapply(list(a = a, b = b), held_out_metrics, newdata = newdata, obs = obs,
                  ndraws = ndraws)
   do.call(rbind, Map(function(name, m) data.frame(fit = name, m), names(rows), rows))
+}
+
+# The posterior mean of the discrepancy's standard deviation in each of two
+# one-output fits (output units), and its shrinkage.
+comparison_discrepancy <- function(a, b) {
+  delta_sd <- vapply(list(a, b), function(fit) {
+    mean(1 / sqrt(stan_draws(fit, "lambda_delta"))) * fit$data$scaling$y_scale
+  }, numeric(1))
+  data.frame(delta_sd_a = delta_sd[1], delta_sd_b = delta_sd[2],
+             shrinkage = 1 - delta_sd[2] / delta_sd[1])
 }
 
 comparison_bias <- function(a, b, truth, call = rlang::caller_env()) {

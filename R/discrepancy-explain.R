@@ -72,9 +72,15 @@
 #' as the first in at least 10 % of the posterior draws, the verdict says
 #' the data cannot tell them apart and names both.
 
+#' On a fit on several outputs each output's discrepancy is explained on
+#' its own (its residual, its candidates, its null), each at `alpha`: over
+#' `K` outputs the chance of a false alarm in any is at most `K * alpha`
+#' (give `alpha / K` to hold `alpha` for the fit).
+#'
 #' @param fit A `bayesbem_fit`.
 #' @param covariates Optional data frame with one row per field row (in the
-#'   field data's order) of further candidates.
+#'   field data's order) of further candidates; on several outputs, a list
+#'   of such tables named by output.
 #' @template args-level
 #' @param alpha Family-wise error rate of the "explains" decisions.
 #' @param n_null Number of simulated null residuals: at least 100 with
@@ -95,7 +101,9 @@
 #'   (fractions), `z`, `p_value` (adjusted), `cv_gain`, `explains`; the
 #'   verdict is in `attr(, "verdict")`, and the candidates the first cannot
 #'   be told apart from in `attr(, "ambiguous")`. Printing shows every candidate and the regions
-#'   named or ranked next.
+#'   named or ranked next. On several outputs, a `bayesbem_explanations`:
+#'   `outputs`, each output's explanation by output; its `summary()` stacks
+#'   their tables with a first column `output`.
 #' @family discrepancy
 #' @export
 #' @examples
@@ -108,6 +116,15 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   check_probability(level)
   check_probability(alpha)
   check_bool(regions)
+  if (is_several(fit)) {
+    check_output_covariates(covariates, names(fit$outputs))
+    outputs <- names(fit$outputs)
+    each <- lapply(stats::setNames(outputs, outputs), function(k) {
+      explain_discrepancy(fit$outputs[[k]], covariates[[k]], level = level, alpha = alpha,
+                          n_null = n_null, ndraws = ndraws, regions = regions, seed = seed)
+    })
+    return(structure(list(outputs = each, alpha = alpha), class = "bayesbem_explanations"))
+  }
   weights <- if (regions) region_weights else c(main = 1)
   check_null_size(n_null, alpha, weights)
   data <- fit$data
@@ -213,5 +230,22 @@ print.bayesbem_explanation <- function(x, digits = 3, ...) {
   shown <- !region | x$explains | cumsum(region & !x$explains) <= 3 & region
   print_rounded(as.data.frame(unclass(x))[shown, ], digits)
   if (any(!shown)) cat(sprintf("(%d more regions, none beyond chance)\n", sum(!shown)))
+  invisible(x)
+}
+
+#' @export
+summary.bayesbem_explanations <- function(object, ...) {
+  rlang::check_dots_empty()
+  stack_outputs(lapply(object$outputs, function(e) as.data.frame(unclass(e))))
+}
+
+#' @export
+print.bayesbem_explanations <- function(x, digits = 3, ...) {
+  rlang::check_dots_empty()
+  for (k in names(x$outputs)) {
+    cat_lines("{.strong {k}}")
+    print(x$outputs[[k]], digits = digits)
+    cat("\n")
+  }
   invisible(x)
 }

@@ -45,7 +45,7 @@
 #' d
 #' plot_discrepancy(d)
 discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = NULL) {
-  check_fit(fit, several = TRUE)
+  check_fit(fit)
   check_probability(level)
   if (is_several(fit)) {
     return(outputs_discrepancy(fit, newdata, obs, level, ndraws))

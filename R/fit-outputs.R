@@ -55,9 +55,7 @@ output_results <- function(fit, tool, given, ..., call = rlang::caller_env()) {
                    "argument", call = call)
   }
   results <- lapply(fit$outputs, tool, ...)
-  table <- do.call(rbind, Map(function(k, r) data.frame(output = k, r), names(results), results))
-  rownames(table) <- NULL
-  list(results = results, table = table)
+  list(results = results, table = stack_outputs(results))
 }
 
 # The one-output fits of a fit: its outputs' views, or the fit itself.
@@ -133,19 +131,25 @@ largest_output <- function(data) {
 # Discrepancy terms of a fit on several outputs: `covariates` a list of
 # tables named by output (those not named have none).
 add_output_terms <- function(data, covariates, call = rlang::caller_env()) {
-  if (!is.null(covariates)) {
-    unknown <- setdiff(names(covariates), names(data$outputs))
-    if (!is.list(covariates) || is.data.frame(covariates) || is.null(names(covariates)) ||
-        length(unknown) > 0L) {
-      abort_bayesbem(c("On several outputs, {.arg covariates} must be a list of tables named by output.",
-                       i = "The outputs are {.val {names(data$outputs)}}; e.g. {.code list({names(data$outputs)[1]} = covariates)}."),
-                     "covariates", call = call)
-    }
-  }
+  check_output_covariates(covariates, names(data$outputs), call)
   for (k in names(data$outputs)) {
     data$outputs[[k]] <- add_discrepancy_terms(data$outputs[[k]], covariates[[k]], call = call)
   }
   data
+}
+
+# Covariates on several outputs: NULL, or a list of tables named by output
+# (those not named have none).
+check_output_covariates <- function(covariates, outputs, call = rlang::caller_env()) {
+  if (is.null(covariates)) {
+    return(invisible())
+  }
+  if (!is.list(covariates) || is.data.frame(covariates) || is.null(names(covariates)) ||
+      length(setdiff(names(covariates), outputs)) > 0L) {
+    abort_bayesbem(c("On several outputs, {.arg covariates} must be a list of tables named by output.",
+                     i = "The outputs are {.val {outputs}}; e.g. {.code list({outputs[1]} = covariates)}."),
+                   "covariates", call = call)
+  }
 }
 
 # Which of output k's variables a table of several outputs shows, and under

@@ -141,15 +141,19 @@ stage2_stan_data <- function(data, priors, emulator) {
          b_fixed = emulator_columns(emulators, "b")))
 }
 
-# The one-output data sets of a data set, and their stage-1 emulators in the
-# same order.
-output_data <- function(data) {
-  if (inherits(data, "bayesbem_outputs")) data$outputs else list(data)
-}
+# The one-output data sets of a data set (one output's: itself), and their
+# stage-1 emulators in the same order: the two data classes dispatch here.
+output_data <- function(data) UseMethod("output_data")
 
-output_emulators <- function(data, emulator) {
-  if (inherits(data, "bayesbem_outputs")) emulator else list(emulator)
-}
+output_data.bayesbem_data <- function(data) list(data)
+
+output_data.bayesbem_outputs <- function(data) data$outputs
+
+output_emulators <- function(data, emulator) UseMethod("output_emulators")
+
+output_emulators.bayesbem_data <- function(data, emulator) list(emulator)
+
+output_emulators.bayesbem_outputs <- function(data, emulator) emulator
 
 # One column per output of a stage-1 emulator's element (beta_eta, b).
 emulator_columns <- function(emulators, name) {

@@ -130,7 +130,7 @@ calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                                 by = c("month", "week", "day", "hour"),
                                 simulator = NULL, ndraws = NULL, cache_dir = NULL) {
   by <- match_choice(by)
-  check_fit(fit, several = TRUE)
+  check_fit(fit)
   if (is_several(fit)) {
     return(outputs_metrics(fit, newdata, obs, by, simulator, ndraws))
   }

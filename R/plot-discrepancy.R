@@ -53,10 +53,10 @@ plot_discrepancy_data <- function(x) {
     return(discrepancy_plot_rows(x))
   }
   # several outputs: each on its own shares, a first column `output`
-  rows <- lapply(unique(x$output), function(k) {
-    data.frame(output = k, discrepancy_plot_rows(x[x$output == k, names(x) != "output"]))
-  })
-  do.call(rbind, rows)
+  outputs <- unique(x$output)
+  stack_outputs(lapply(stats::setNames(outputs, outputs), function(k) {
+    discrepancy_plot_rows(x[x$output == k, names(x) != "output"])
+  }))
 }
 
 # plot_discrepancy_data() of one output's rows.

@@ -138,10 +138,7 @@ outputs_plot_data <- function(fit, data_fun, newdata, obs, ndraws, call = rlang:
                      i = "For other inputs, plot one output: {.code output_fit(fit, \"{names(fit$outputs)[1]}\")}."),
                    "argument", call = call)
   }
-  rows <- lapply(names(fit$outputs), function(k) {
-    cbind(output = k, data_fun(fit$outputs[[k]], ndraws = ndraws))
-  })
-  out <- do.call(rbind, rows)
+  out <- stack_outputs(lapply(fit$outputs, data_fun, ndraws = ndraws))
   out$output <- factor(out$output, levels = names(fit$outputs))
   out
 }

@@ -19,10 +19,7 @@ predict_outputs <- function(object, newdata, type, ndraws, summary, noise, level
     return(draws)
   }
   x <- object$data$names$x
-  rows <- lapply(names(draws), function(k) {
-    cbind(output = k, summarise_columns(draws[[k]], inputs[[k]][x], level))
-  })
-  do.call(rbind, rows)
+  stack_outputs(Map(function(d, i) summarise_columns(d, i[x], level), draws, inputs[names(draws)]))
 }
 
 # The inputs at which each output is predicted, by output (see

@@ -30,6 +30,32 @@ shared_runs <- function(simulator) {
   simulator
 }
 
+# `tool(k, fit, ...)` on each output `k` of a fit on several outputs, by
+# output: its name, its view, then each of `scenarios` (simulators or scenarios of
+# one simulator that gives every output) cut to that output. A simulator
+# runs once per draw for every output (shared_runs()).
+each_output_runs <- function(fit, scenarios, tool, call = rlang::caller_env()) {
+  shared <- lapply(scenarios, function(s) {
+    if (inherits(s, "bayesbem_scenario")) {
+      s$simulator <- shared_runs(s$simulator)
+      return(s)
+    }
+    check_simulator(s, arg = "simulator", call = call)
+    shared_runs(s)
+  })
+  cut <- function(s, k) {
+    if (!inherits(s, "bayesbem_scenario")) {
+      return(output_simulator(s, k))
+    }
+    s$simulator <- output_simulator(s$simulator, k)
+    s
+  }
+  outputs <- names(fit$outputs)
+  lapply(stats::setNames(outputs, outputs), function(k) {
+    do.call(tool, c(list(k, fit$outputs[[k]]), lapply(shared, cut, k = k)))
+  })
+}
+
 # The scenarios' simulators run at the same posterior draws (paired): a
 # draw is kept only where every scenario's run succeeded. Returns the draws
 # (Stan scale), their indices and each scenario's outputs (draws by periods).

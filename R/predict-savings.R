@@ -89,19 +89,10 @@ savings <- function(fit, baseline, retrofit, ndraws = 40,
 # weighted total of their savings draw by draw.
 savings_outputs <- function(fit, baseline, retrofit, ndraws, discrepancy, cache_dir, total,
                             call = rlang::caller_env()) {
-  shared <- lapply(list(baseline = baseline, retrofit = retrofit), function(s) {
-    s$simulator <- shared_runs(s$simulator)
-    s
-  })
-  outputs <- names(fit$outputs)
-  per <- lapply(stats::setNames(outputs, outputs), function(k) {
-    one <- lapply(shared, function(s) {
-      s$simulator <- output_simulator(s$simulator, k)
-      s
-    })
-    savings(fit$outputs[[k]], one$baseline, one$retrofit, ndraws = ndraws,
-            discrepancy = discrepancy, cache_dir = cache_dir)
-  })
+  per <- each_output_runs(fit, list(baseline, retrofit), function(k, fit, baseline, retrofit) {
+    savings(fit, baseline, retrofit, ndraws = ndraws, discrepancy = discrepancy,
+            cache_dir = cache_dir)
+  }, call = call)
   saved <- if (!is.null(total)) {
     check_total_weights(total, lapply(per, `[[`, "inputs"), call = call)
     weighted_total(total, lapply(per, function(p) with_total(p$savings)),
@@ -115,18 +106,16 @@ savings_outputs <- function(fit, baseline, retrofit, ndraws, discrepancy, cache_
 #' @export
 summary.bayesbem_savings_outputs <- function(object, level = 0.9, ...) {
   rlang::check_dots_empty()
-  rows <- lapply(names(object$outputs), function(k) {
-    cbind(output = k, summary(object$outputs[[k]], level = level))
-  })
+  cols <- c("period", "savings", "sd", "lower", "upper")
+  tables <- lapply(object$outputs, function(s) summary(s, level = level)[cols])
   if (!is.null(object$total)) {
     q <- column_quantiles(object$total, interval_probs(level))
-    rows <- c(rows, list(data.frame(output = "total", period = total_labels(ncol(object$total) - 1L),
-                                    savings = colMeans(object$total),
-                                    sd = apply(object$total, 2, stats::sd), lower = q[, 1],
-                                    upper = q[, 2], row.names = NULL)))
+    tables$total <- data.frame(period = total_labels(ncol(object$total) - 1L),
+                               savings = colMeans(object$total),
+                               sd = apply(object$total, 2, stats::sd), lower = q[, 1],
+                               upper = q[, 2], row.names = NULL)
   }
-  rows <- lapply(rows, function(r) r[c("output", "period", "savings", "sd", "lower", "upper")])
-  do.call(rbind, rows)
+  stack_outputs(tables)
 }
 
 #' @export
@@ -213,17 +202,23 @@ check_same_periods <- function(baseline, retrofit, call = rlang::caller_env()) {
 #' @param obs Measured use in each reporting period (numeric, one per
 #'   period of `reporting`; `NA` for a period without a measurement, e.g.
 #'   the months after the last bill: such periods are left out of the
-#'   table and the total).
+#'   table and the total); on several outputs, a list of them named by
+#'   output.
 #' @param discrepancy What the reporting period does to the discrepancy, as
 #'   in [predict_scenario()].
 #' @template args-ndraws-runs
 #' @template args-level
 #' @template args-cache-dir
+#' @template args-total
 #' @param ... Unused.
 #' @return A `bayesbem_avoided_energy`: a list with `table` (per period and
 #'   total: `adjusted_baseline`, `obs`, `avoided`, its `sd`, `lower`
 #'   and `upper`), `fsu` (the Bayesian one and Guideline 14's), `draws` (the
-#'   adjusted baseline's draws) and `level`.
+#'   adjusted baseline's draws at the measured periods), `obs` and `level`.
+#'   On several outputs, a `bayesbem_avoided_energy_outputs`: `outputs`,
+#'   each output's result by output, and with `total` the draws of the
+#'   weighted total of the outputs' totals; `summary()` stacks their
+#'   tables with a first column `output`.
 #' @family prediction
 #' @export
 #' @examples
@@ -234,18 +229,26 @@ check_same_periods <- function(baseline, retrofit, call = rlang::caller_env()) {
 #' }
 avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
                            discrepancy = c("same", "proportional", "none"), cache_dir = NULL,
-                           ...) {
+                           total = NULL, ...) {
   rlang::check_dots_empty()
   check_fit(fit)
   reporting <- as_scenario(reporting)
   check_probability(level)
   discrepancy <- match_choice(discrepancy)
+  if (is_several(fit)) {
+    return(avoided_energy_outputs(fit, reporting, obs, ndraws, level, discrepancy, cache_dir,
+                                  total))
+  }
+  if (!is.null(total)) {
+    abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
+                   "argument")
+  }
   keep <- measured_periods(obs, nrow(reporting$simulator$x))
   obs <- obs[keep]
   m <- length(keep)
-  adjusted <- predict_scenario(fit, reporting, ndraws = ndraws, discrepancy = discrepancy,
-                               cache_dir = cache_dir)$y
-  adjusted <- adjusted[, keep, drop = FALSE]
+  prediction <- predict_scenario(fit, reporting, ndraws = ndraws, discrepancy = discrepancy,
+                                 cache_dir = cache_dir)
+  adjusted <- prediction$y[, keep, drop = FALSE]
   avoided <- adjusted - rep(obs, each = nrow(adjusted))
   both <- with_total(avoided)
   q <- column_quantiles(both, interval_probs(level))
@@ -261,8 +264,58 @@ avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
             guideline14_fsu(fit, m, abs(total$avoided) / total$adjusted_baseline, level))
   )
   structure(list(table = table, fsu = fsu, draws = adjusted, level = level,
-                 scenario = reporting),
+                 scenario = reporting, obs = obs, draw = prediction$draw),
             class = "bayesbem_avoided_energy")
+}
+
+# avoided_energy() of a fit on several outputs: each output's from the same
+# runs, `obs` a list by output, and the weighted total of the outputs'
+# totals draw by draw (their measured periods may differ, so only the
+# totals add up).
+avoided_energy_outputs <- function(fit, reporting, obs, ndraws, level, discrepancy, cache_dir,
+                                   total, call = rlang::caller_env()) {
+  outputs <- names(fit$outputs)
+  if (!is.list(obs) || is.null(names(obs)) || !setequal(names(obs), outputs)) {
+    abort_bayesbem(c("On several outputs, {.arg obs} must be a list of measured uses named by output.",
+                     x = "It is {describe_value(obs)}.",
+                     i = "The outputs are {.val {outputs}}; e.g. {.code list({outputs[1]} = ..., {outputs[2]} = ...)}."),
+                   "argument", call = call)
+  }
+  per <- each_output_runs(fit, list(reporting), function(k, fit, reporting) {
+    avoided_energy(fit, reporting, obs[[k]], ndraws = ndraws, level = level,
+                   discrepancy = discrepancy, cache_dir = cache_dir)
+  }, call = call)
+  avoided <- if (!is.null(total)) {
+    check_total_weights(total, lapply(per, function(p) p$scenario$simulator$x), call = call)
+    totals <- lapply(per, function(p) cbind(rowSums(p$draws) - sum(p$obs)))
+    drop(weighted_total(total, totals, lapply(per, `[[`, "draw")))
+  }
+  structure(list(outputs = per, total = avoided, weights = total, level = level,
+                 scenario = reporting),
+            class = "bayesbem_avoided_energy_outputs")
+}
+
+#' @export
+summary.bayesbem_avoided_energy_outputs <- function(object, ...) {
+  rlang::check_dots_empty()
+  cols <- c("period", "avoided", "sd", "lower", "upper")
+  tables <- lapply(object$outputs, function(a) a$table[cols])
+  if (!is.null(object$total)) {
+    q <- stats::quantile(object$total, interval_probs(object$level), names = FALSE)
+    tables$total <- data.frame(period = "total", avoided = mean(object$total),
+                               sd = stats::sd(object$total), lower = q[1], upper = q[2])
+  }
+  stack_outputs(tables)
+}
+
+#' @export
+print.bayesbem_avoided_energy_outputs <- function(x, ...) {
+  rlang::check_dots_empty()
+  cat_lines("{.cls bayesbem_avoided_energy_outputs}: {x$scenario$simulator$name}",
+            "* outputs {.val {names(x$outputs)}}{if (!is.null(x$total)) ' and their weighted total' else ''}, {round(100 * x$level)} % intervals",
+            "")
+  print_rounded(summary(x), 4)
+  invisible(x)
 }
 
 # Guideline 14's fractional savings uncertainty (Annex B):

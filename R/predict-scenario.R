@@ -122,14 +122,11 @@ print.bayesbem_scenario_prediction <- function(x, ...) {
 predict_scenario_outputs <- function(fit, scenario, ndraws, discrepancy, noise, covariates,
                                      cache_dir, total, call = rlang::caller_env()) {
   scenario <- as_scenario(scenario, "scenario", call = call)
-  shared <- shared_runs(scenario$simulator)
-  outputs <- names(fit$outputs)
-  preds <- lapply(stats::setNames(outputs, outputs), function(k) {
-    one <- scenario
-    one$simulator <- output_simulator(shared, k)
-    predict_scenario(fit$outputs[[k]], one, ndraws = ndraws, discrepancy = discrepancy,
-                     noise = noise, covariates = covariates[[k]], cache_dir = cache_dir)
-  })
+  check_output_covariates(covariates, names(fit$outputs), call)
+  preds <- each_output_runs(fit, list(scenario), function(k, one, scenario) {
+    predict_scenario(one, scenario, ndraws = ndraws, discrepancy = discrepancy, noise = noise,
+                     covariates = covariates[[k]], cache_dir = cache_dir)
+  }, call = call)
   draw <- lapply(preds, `[[`, "draw")
   y_total <- if (!is.null(total)) {
     check_total_weights(total, lapply(preds, `[[`, "inputs"), call = call)
@@ -143,14 +140,12 @@ predict_scenario_outputs <- function(fit, scenario, ndraws, discrepancy, noise, 
 #' @export
 summary.bayesbem_scenario_predictions <- function(object, level = 0.9, ...) {
   rlang::check_dots_empty()
-  rows <- lapply(names(object$outputs), function(k) {
-    cbind(output = k, summary(object$outputs[[k]], level = level))
-  })
+  tables <- lapply(object$outputs, summary, level = level)
   if (!is.null(object$total)) {
     inputs <- object$outputs[[names(object$weights)[1]]]$inputs
-    rows <- c(rows, list(cbind(output = "total", draws_with_total(object$total, inputs, level))))
+    tables$total <- draws_with_total(object$total, inputs, level)
   }
-  do.call(rbind, rows)
+  stack_outputs(tables)
 }
 
 #' @export

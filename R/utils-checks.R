@@ -1,15 +1,8 @@
 # Checks of arguments shared by every step: a fit, a table's numeric
 # columns.
 
-# A fit from calibrate(); of one output, unless `several` (a tool that
-# reads every output) allows a fit on several outputs.
-check_fit <- function(fit, several = FALSE, arg = rlang::caller_arg(fit),
-                      call = rlang::caller_env()) {
-  if (!several && is_several(fit)) {
-    abort_bayesbem(c("{.arg {arg}} is a fit on several outputs; this tool reads one output.",
-                     i = "Take one with {.code output_fit({arg}, \"{names(fit$outputs)[1]}\")}."),
-                   "argument", call = call)
-  }
+# A fit from calibrate(), of one output or several.
+check_fit <- function(fit, arg = rlang::caller_arg(fit), call = rlang::caller_env()) {
   if (!inherits(fit, "bayesbem_fit")) {
     abort_bayesbem(c("{.arg {arg}} must be a {.cls bayesbem_fit} from {.fn calibrate}.",
                      x = "It is {.obj_type_friendly {fit}}."),

@@ -22,6 +22,15 @@ summarise_columns <- function(draws, inputs, level) {
              column_quantiles(draws, probs), row.names = NULL)
 }
 
+# Tables by output (a named list) stacked, a first column `output` naming
+# each row's.
+stack_outputs <- function(tables) {
+  rows <- Map(function(k, d) data.frame(output = k, d, check.names = FALSE), names(tables), tables)
+  out <- do.call(rbind, unname(rows))
+  rownames(out) <- NULL
+  out
+}
+
 # Row labels of per-period tables with their total.
 total_labels <- function(n) c(as.character(seq_len(n)), "total")
 

@@ -85,3 +85,25 @@ test_that("refine_emulator() checks its inputs", {
   expect_error(refine_emulator(list(), sim), class = "bayesbem_error_argument")
   expect_error(refine_emulator(seb_fit, sim, n_draws = 2), class = "rlib_error_dots_nonempty")
 })
+
+test_that("on several outputs a round's runs serve every output, and every emulator must be trusted", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  sim <- two_output_simulator()
+  added <- simulate_design(sim, design_posterior(fit, n = 3, seed = 1))
+  data <- bayesbem:::refined_data(fit, added)
+  expect_equal(names(data$outputs), c("electricity", "gas"))
+  for (k in names(data$outputs)) {
+    expect_equal(bayesbem:::run_count(data$outputs[[k]]), 12 + 3)
+    # the added runs at the output's own field periods (gas lacks August)
+    expect_equal(nrow(data$outputs[[k]]$sim), nrow(fit$data$outputs[[k]]$sim) / 12 * 15)
+  }
+  expect_error(bayesbem:::refined_data(fit, added[added$output == "gas", ]),
+               class = "bayesbem_error_simulator")
+  # the outcome of the checks of both outputs
+  checks <- validate_emulator(fit, sim, ndraws = 3)
+  outcome <- bayesbem:::check_outcome(checks)
+  expect_equal(outcome$trusted, checks$electricity$trusted && checks$gas$trusted)
+  expect_equal(outcome$coverage, min(checks$electricity$coverage, checks$gas$coverage))
+  expect_match(outcome$verdict, "^electricity: .* gas: ")
+})

@@ -176,12 +176,66 @@ test_that("scenarios of a fit on several outputs: one run per draw for all, and 
   expect_error(predict_scenario(seb_fit, sim, total = c(a = 1)), class = "bayesbem_error_argument")
 })
 
-test_that("a tool that reads one output says how to take it from a fit on several", {
+test_that("every verb takes a fit on several outputs: each output's result, from one run per draw", {
   skip_on_cran()
-  withr::local_options(cli.num_colors = 1)
   fit <- two_output_fit()
-  expect_snapshot(explain_discrepancy(fit), error = TRUE)
-  expect_error(savings(fit, NULL, NULL), class = "bayesbem_error_argument")
+  sim <- two_output_simulator()
+  gas <- output_fit(fit, "gas")
+  gas_sim <- output_simulator(sim, "gas")
+  # the simulator at the posterior: one run per draw serves both outputs
+  runs <- new.env()
+  simulated <- posterior_simulate(fit, counting_simulator(runs, sim), ndraws = 3)
+  expect_equal(runs$calls, 3)
+  expect_equal(simulated[simulated$output == "gas", -1],
+               posterior_simulate(gas, gas_sim, ndraws = 3), ignore_attr = TRUE)
+  # avoided energy: each output's, and the weighted total of their totals
+  after <- list(electricity = rep(1500, 12), gas = c(rep(800, 11), NA))
+  # (the same noise draws: gas's come after electricity's)
+  avoided <- withr::with_seed(1, avoided_energy(fit, sim, after, ndraws = 3,
+                                                total = c(electricity = 1, gas = 2)))
+  own <- withr::with_seed(1, {
+    avoided_energy(output_fit(fit, "electricity"), output_simulator(sim, "electricity"),
+                   after$electricity, ndraws = 3)
+    avoided_energy(gas, gas_sim, after$gas, ndraws = 3)
+  })
+  expect_equal(avoided$outputs$gas$table, own$table)
+  totals <- lapply(avoided$outputs, function(a) rowSums(a$draws) - sum(a$obs))
+  expect_equal(avoided$total, totals$electricity + 2 * totals$gas)
+  s <- summary(avoided)
+  expect_equal(s$avoided[s$output == "total"], mean(avoided$total))
+  expect_equal(sum(s$output == "gas"), 12)  # 11 measured months and their total
+  expect_error(avoided_energy(fit, sim, after$gas, ndraws = 3), class = "bayesbem_error_argument")
+  expect_error(avoided_energy(gas, gas_sim, after$gas, total = c(gas = 1)),
+               class = "bayesbem_error_argument")
+  # the diagnosis: each output's on its own
+  e <- explain_discrepancy(fit, ndraws = 20, n_null = 30, regions = FALSE, seed = 1)
+  expect_equal(as.data.frame(e$outputs$gas),
+               as.data.frame(explain_discrepancy(gas, ndraws = 20, n_null = 30, regions = FALSE,
+                                                 seed = 1)))
+  expect_equal(unique(summary(e)$output), c("electricity", "gas"))
+  expect_output(print(e), "gas")
+  expect_error(explain_discrepancy(fit, covariates = data.frame(a = 1:12)),
+               class = "bayesbem_error_covariates")
+})
+
+test_that("loo and compare_fits on several outputs: every output's rows, each output's table", {
+  skip_on_cran()
+  fit <- two_output_fit()
+  l <- suppressWarnings(loo::loo(fit, ndraws = 60))
+  # the pointwise densities are each output's own (paired draws)
+  own <- lapply(fit$outputs, bayesbem:::loo_log_lik, ndraws = 60)
+  expect_equal(nrow(l$pointwise), 12 + 11)
+  expect_equal(l$estimates["elpd_loo", "Estimate"],
+               suppressWarnings(loo::loo(do.call(cbind, own)))$estimates["elpd_loo", "Estimate"],
+               tolerance = 0.05)
+  cf <- suppressWarnings(compare_fits(fit, fit, ndraws = 60))
+  expect_equal(cf$elpd$diff, 0)
+  expect_equal(cf$discrepancy$output, c("electricity", "gas"))
+  expect_equal(cf$discrepancy$shrinkage, c(0, 0))
+  expect_equal(unique(cf$metrics$output), c("electricity", "gas"))
+  expect_error(compare_fits(fit, output_fit(fit, "gas")), class = "bayesbem_error_argument")
+  expect_error(compare_fits(fit, fit, newdata = seb_field, obs = seb_field$y),
+               class = "bayesbem_error_argument")
 })
 
 test_that("savings of a fit on several outputs: each output's, and their priced total", {
