@@ -7,7 +7,7 @@
 #'
 #' The workflow:
 #' 1. prepare field and simulation data with [koh_data()];
-#' 2. choose priors with [koh_priors()] (and [prior_level()] for the paper's
+#' 2. choose priors with [koh_priors()] (and [prior_strength()] for the paper's
 #'    three levels);
 #' 3. calibrate with [calibrate()], which returns a `bayesbem_fit`;
 #' 4. inspect it with `print()`, `summary()` and [posterior::as_draws()].

@@ -47,12 +47,12 @@ plot.bayesbem_parameter_study <- function(x, ...) {
 #' Plot a prior study
 #'
 #' The paper's Fig 5: for each calibration parameter, its posterior density
-#' under each prior level, in physical units over the design range.
+#' under each prior strength, in physical units over the design range.
 #'
 #' @param x A `bayesbem_prior_study` from [study_priors()].
 #' @param ... Unused.
 #' @return `plot_prior_study()` (and `plot(x)`): a ggplot. `plot_prior_study_data()`: a data
-#'   frame with columns `level`, `parameter`, `value` and `density` (the
+#'   frame with columns `strength`, `parameter`, `value` and `density` (the
 #'   posteriors; see [plot_posteriors_data()]).
 #' @family studies
 #' @family plots
@@ -61,13 +61,13 @@ plot.bayesbem_parameter_study <- function(x, ...) {
 #' \donttest{
 #' mu <- c(fan_total_efficiency = 0.6, equipment_power_density = 21.9,
 #'         infiltration_per_exterior_area = 0.0011)
-#' study <- study_priors(seb_field, seb_sim, levels = c("flat", "specific"), mu = mu,
+#' study <- study_priors(seb_field, seb_sim, strengths = c("flat", "specific"), mu = mu,
 #'                       chains = 1, iter = 300, seed = 1, refresh = 0)
 #' plot_prior_study(study)
 #' }
 plot_prior_study <- function(x) {
   d <- plot_prior_study_data(x)
-  ggplot2::ggplot(d, ggplot2::aes(.data$value, .data$density, colour = .data$level)) +
+  ggplot2::ggplot(d, ggplot2::aes(.data$value, .data$density, colour = .data$strength)) +
     ggplot2::geom_line() +
     ggplot2::facet_wrap(ggplot2::vars(.data$parameter), scales = "free") +
     ggplot2::scale_colour_manual(values = c(flat = colour_of("prior"), weak = colour_of("model"),

@@ -27,7 +27,7 @@
 #' 0.2, so it is not the default.
 #'
 #' @param tf A named list of priors for the calibration parameters, each made
-#'   by [prior_normal()] or [prior_uniform()], e.g. from [prior_level()].
+#'   by [prior_normal()] or [prior_uniform()], e.g. from [prior_strength()].
 #'   Parameters left out get the flat prior `U(0, 1)` on their scaled range.
 #' @param set The named prior set the Gamma priors are read in. `"paper"`:
 #'   as given, on the standardised output scale (the paper's). `"scaled"`:
@@ -123,7 +123,7 @@ prior_normal <- function(mu, sd) {
   if (!is.numeric(sd) || length(sd) != 1L || !is.finite(sd) || sd <= 0) {
     abort_bayesbem(c("{.arg sd} must be one positive number.",
                      x = "It is {.val {format(sd)}}.",
-                     i = "The paper's levels are 0.2 (weakly informative) and 0.05 (specific)."),
+                     i = "The paper's strengths are 0.2 (weakly informative) and 0.05 (specific)."),
                    "prior")
   }
   structure(list(family = "normal", mu = mu, sd = sd), class = "bayesbem_prior")
@@ -147,14 +147,15 @@ print.bayesbem_prior <- function(x, ...) {
   invisible(x)
 }
 
-#' The paper's three prior levels
+#' The paper's three prior strengths
 #'
-#' Builds the calibration-parameter priors of one of the levels compared by
+#' Builds the calibration-parameter priors of one of the strengths of prior
+#' information compared by
 #' Chong and Menberg (2018): `"flat"` (`U(0, 1)`), `"weak"` (`N(mu, 0.2)`)
 #' or `"specific"` (`N(mu, 0.05)`), all on the \[0, 1\] scale and truncated
 #' to it.
 #'
-#' @param level One of `"flat"`, `"weak"` or `"specific"`.
+#' @param strength One of `"flat"`, `"weak"` or `"specific"`.
 #' @param mu A named numeric vector of prior means in physical units, one per
 #'   calibration parameter (the modeller's best guess, e.g. the initial
 #'   value); not needed for `"flat"`.
@@ -162,19 +163,19 @@ print.bayesbem_prior <- function(x, ...) {
 #' @family priors
 #' @export
 #' @examples
-#' prior_level("weak", mu = c(equipment_power_density = 21.9))
-#' koh_priors(tf = prior_level("specific", mu = c(fan_total_efficiency = 0.5)))
-prior_level <- function(level = c("flat", "weak", "specific"), mu = NULL) {
-  level <- match_choice(level)
-  if (level == "flat") {
+#' prior_strength("weak", mu = c(equipment_power_density = 21.9))
+#' koh_priors(tf = prior_strength("specific", mu = c(fan_total_efficiency = 0.5)))
+prior_strength <- function(strength = c("flat", "weak", "specific"), mu = NULL) {
+  strength <- match_choice(strength)
+  if (strength == "flat") {
     return(lapply(stats::setNames(nm = names(mu)), function(i) prior_uniform()))
   }
   if (!is.numeric(mu) || is.null(names(mu)) || any(names(mu) == "")) {
-    abort_bayesbem(c("{.arg mu} must be a named numeric vector for the {.val {level}} level.",
+    abort_bayesbem(c("{.arg mu} must be a named numeric vector for the {.val {strength}} prior.",
                      i = "Give each calibration parameter's best guess in physical units, e.g. {.code c(equipment_power_density = 21.9)}."),
                    "prior")
   }
-  sd <- c(weak = 0.2, specific = 0.05)[[level]]
+  sd <- c(weak = 0.2, specific = 0.05)[[strength]]
   lapply(mu, prior_normal, sd = sd)
 }
 

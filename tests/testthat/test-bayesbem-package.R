@@ -44,9 +44,9 @@ test_that("the discrepancy choice and the number of draws are one idea each", {
   runs <- c("predict_scenario", "savings", "avoided_energy", "validate_emulator",
             "posterior_simulate", "refine_emulator")
   expect_true(all(ndraws[runs] == "40"))
-  # every interval is a level of 0.9 by default
+  # `level` is an interval's, 0.9 by default, and nothing else
   level <- vapply(defaults("level"), function(v) if (is.numeric(v)) v else NA_real_, numeric(1))
-  expect_true(all(level[!is.na(level)] == 0.9))
+  expect_equal(level[level != 0.9 | is.na(level)], stats::setNames(numeric(0), character(0)))
 })
 
 # The package's R files in CONTRIBUTING's table of the workflow, in order,

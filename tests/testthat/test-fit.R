@@ -4,8 +4,8 @@ test_that("the Stan log density equals the method's, computed independently in R
   withr::local_seed(42)
   # each emulator mean: the linear default, and the paper's zero mean
   for (emulator_mean in c("linear", "zero")) {
-    priors <- koh_priors(tf = prior_level("weak", c(equipment_power_density = 20,
-                                                    infiltration_per_exterior_area = 0.0008)),
+    priors <- koh_priors(tf = prior_strength("weak", c(equipment_power_density = 20,
+                                                       infiltration_per_exterior_area = 0.0008)),
                          emulator_mean = emulator_mean)
     sd <- bayesbem:::koh_stan_data(d, priors)
     expect_equal(sd$n_b, if (emulator_mean == "zero") 0 else 7)
@@ -26,8 +26,8 @@ test_that("on log and reciprocal scales the priors stay in physical units", {
   # a flat prior on the reciprocal scale, normal priors on each scale
   for (fan in list(NULL, prior_normal(0.5, 0.3))) {
     priors <- koh_priors(tf = c(if (!is.null(fan)) list(fan_total_efficiency = fan),
-                                prior_level("weak", c(equipment_power_density = 20,
-                                                      infiltration_per_exterior_area = 0.0008))))
+                                prior_strength("weak", c(equipment_power_density = 20,
+                                                         infiltration_per_exterior_area = 0.0008))))
     sd <- bayesbem:::koh_stan_data(d, priors)
     expect_equal(as.vector(sd$tf_scale), c(2, 0, 1))
     model <- koh_model_for(sd)
@@ -71,7 +71,7 @@ test_that("the grid program's log density equals the dense program's", {
   k2_mid <- (bounds$lower[["k2"]] + bounds$upper[["k2"]]) / 2
   problems <- list(
     shipped = list(d = koh_data(seb_field, seb_sim),
-                   priors = koh_priors(tf = prior_level("weak", c(equipment_power_density = 20)),
+                   priors = koh_priors(tf = prior_strength("weak", c(equipment_power_density = 20)),
                                        emulator_mean = "zero")),
     random = list(d = random, priors = koh_priors(tf = list(k2 = prior_normal(k2_mid, 0.05)),
                                                   nugget = 1e-4)),

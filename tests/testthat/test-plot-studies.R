@@ -15,7 +15,7 @@ test_that("plot_parameter_study() draws each parameter's posterior by k", {
   vdiffr::expect_doppelganger("parameter-study", plot_parameter_study(study))
 })
 
-test_that("plot_prior_study() draws each level's posterior density", {
+test_that("plot_prior_study() draws each strength's posterior density", {
   study <- shipped_studies()$prior_study
   expect_identical(plot_prior_study_data(study), study$densities)
   expect_error(plot_prior_study(seb_fit), class = "bayesbem_error_argument")

@@ -91,7 +91,7 @@ test_that("predict() rejects unknown arguments and types with classed errors", {
   expect_snapshot(predict(seb_fit, method = 2), error = TRUE)
   expect_snapshot(plot(seb_fit, type = "trace plot"), error = TRUE)
   expect_snapshot(plot(seb_fit, type = "trace", variable = "lambda_e"), error = TRUE)
-  expect_snapshot(prior_level("strong"), error = TRUE)
+  expect_snapshot(prior_strength("strong"), error = TRUE)
   expect_s3_class(plot(seb_fit, type = "trace", variables = "lambda_e"), "ggplot")
 })
 

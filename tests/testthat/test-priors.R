@@ -11,7 +11,7 @@ test_that("koh_priors() defaults are the paper's", {
 test_that("prior means in physical units map to the [0, 1] scale", {
   d <- koh_data(seb_field, seb_sim)
   mu <- c(equipment_power_density = 21.9, fan_total_efficiency = 0.5)
-  sd <- bayesbem:::koh_stan_data(d, koh_priors(tf = prior_level("weak", mu)))
+  sd <- bayesbem:::koh_stan_data(d, koh_priors(tf = prior_strength("weak", mu)))
   lo <- min(seb_sim$equipment_power_density)
   hi <- max(seb_sim$equipment_power_density)
   expect_equal(sd$tf_mu[2], (21.9 - lo) / (hi - lo))
@@ -47,12 +47,12 @@ test_that("the scaled set centres the emulator's variance on what its mean leave
   expect_error(koh_priors(set = "wide"), class = "bayesbem_error_argument")
 })
 
-test_that("prior_level() gives the paper's three levels", {
+test_that("prior_strength() gives the paper's three levels", {
   mu <- c(equipment_power_density = 21.9)
-  expect_equal(prior_level("flat", mu)$equipment_power_density$family, "uniform")
-  expect_equal(prior_level("weak", mu)$equipment_power_density$sd, 0.2)
-  expect_equal(prior_level("specific", mu)$equipment_power_density$sd, 0.05)
-  expect_equal(prior_level("specific", mu)$equipment_power_density$mu, 21.9)
+  expect_equal(prior_strength("flat", mu)$equipment_power_density$family, "uniform")
+  expect_equal(prior_strength("weak", mu)$equipment_power_density$sd, 0.2)
+  expect_equal(prior_strength("specific", mu)$equipment_power_density$sd, 0.05)
+  expect_equal(prior_strength("specific", mu)$equipment_power_density$mu, 21.9)
 })
 
 test_that("bad priors get classed errors", {
@@ -61,10 +61,10 @@ test_that("bad priors get classed errors", {
   expect_snapshot(koh_priors(lambda_e = c(10, -1)), error = TRUE)
   expect_snapshot(koh_priors(tf = list(prior_normal(1, 0.2))), error = TRUE)
   d <- koh_data(seb_field, seb_sim)
-  out_of_range <- koh_priors(tf = prior_level("weak", c(equipment_power_density = 45)))
+  out_of_range <- koh_priors(tf = prior_strength("weak", c(equipment_power_density = 45)))
   expect_error(bayesbem:::koh_stan_data(d, out_of_range), class = "bayesbem_error_prior")
   expect_snapshot(bayesbem:::koh_stan_data(d, out_of_range), error = TRUE)
-  unknown <- koh_priors(tf = prior_level("weak", c(lighting = 10)))
+  unknown <- koh_priors(tf = prior_strength("weak", c(lighting = 10)))
   expect_snapshot(bayesbem:::koh_stan_data(d, unknown), error = TRUE)
-  expect_snapshot(prior_level("weak"), error = TRUE)
+  expect_snapshot(prior_strength("weak"), error = TRUE)
 })
