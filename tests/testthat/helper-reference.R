@@ -127,6 +127,17 @@ stan_log_density <- function(model, pars) {
   rstan::log_prob(model, rstan::unconstrain_pars(model, pars), adjust_transform = FALSE)
 }
 
+# Stan's log density of the KOH program with data `sd` equals the R
+# reference at `times` random parameter values.
+expect_log_density_matches <- function(sd, times) {
+  model <- koh_model_for(sd)
+  for (i in seq_len(times)) {
+    pars <- random_koh_pars(sd)
+    testthat::expect_equal(stan_log_density(model, pars), reference_log_density(sd, pars),
+                           tolerance = 1e-8)
+  }
+}
+
 # Brute-force conditional of (eta(x_new, tf), delta(x_new)) given z: the
 # joint covariance of (z, eta_new, delta_new) filled element by element,
 # conditioned with solve(). `x_new` is on the scaled input range.

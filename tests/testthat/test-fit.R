@@ -9,12 +9,7 @@ test_that("the Stan log density equals the method's, computed independently in R
                          emulator_mean = emulator_mean)
     sd <- bayesbem:::koh_stan_data(d, priors)
     expect_equal(sd$n_b, if (emulator_mean == "zero") 0 else 7)
-    model <- koh_model_for(sd)
-    for (i in 1:4) {
-      pars <- random_koh_pars(sd)
-      expect_equal(stan_log_density(model, pars), reference_log_density(sd, pars),
-                   tolerance = 1e-8)
-    }
+    expect_log_density_matches(sd, 4)
   }
 })
 
@@ -30,12 +25,7 @@ test_that("on log and reciprocal scales the priors stay in physical units", {
                                                          infiltration_per_exterior_area = 0.0008))))
     sd <- bayesbem:::koh_stan_data(d, priors)
     expect_equal(as.vector(sd$tf_scale), c(2, 0, 1))
-    model <- koh_model_for(sd)
-    for (i in 1:2) {
-      pars <- random_koh_pars(sd)
-      expect_equal(stan_log_density(model, pars), reference_log_density(sd, pars),
-                   tolerance = 1e-8)
-    }
+    expect_log_density_matches(sd, 2)
   }
 })
 
@@ -54,11 +44,7 @@ test_that("the Stan log density matches on other sizes, with outputs sampled in 
   sd <- bayesbem:::koh_stan_data(d, koh_priors(tf = list(k2 = prior_normal(12, 0.05)),
                                                nugget = 1e-4),
                                  x_pred = matrix(runif(4), 2, 2))
-  model <- koh_model_for(sd)
-  for (i in 1:3) {
-    pars <- random_koh_pars(sd)
-    expect_equal(stan_log_density(model, pars), reference_log_density(sd, pars), tolerance = 1e-8)
-  }
+  expect_log_density_matches(sd, 3)
 })
 
 test_that("the grid program's log density equals the dense program's", {
