@@ -19,6 +19,10 @@
 #' position, after `eta`. Name the columns with `y`, `eta`, `x` and `t` to
 #' choose them yourself.
 #'
+#' A logical `field` column `estimated` flags readings that were estimated,
+#' not read (utilities mark them on the bill): those rows are left out,
+#' with a message.
+#'
 #' Simulation rows must be distinct: repeated runs with the same inputs and
 #' parameters make the emulator's covariance singular; average them first.
 #'
@@ -111,7 +115,7 @@
 #'                "infiltration_per_exterior_area"))
 koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, period = NULL,
                      grid_tol = NULL, scales = "auto", output = NULL) {
-  field <- as_numeric_table(field)
+  field <- without_estimated(as_numeric_table(field))
   sim <- as_numeric_table(sim)
   output <- outputs_column(field, sim, output)
   if (!is.null(output)) {
@@ -120,6 +124,26 @@ koh_data <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, perio
     return(koh_data_outputs(field, sim, output, args))
   }
   koh_data_one(field, sim, y, eta, x, t, period, grid_tol, scales)
+}
+
+# The field rows without those a logical column `estimated` flags (a bill
+# the utility estimated, not read), said in a message; the column goes.
+without_estimated <- function(field, call = rlang::caller_env()) {
+  flag <- field$estimated
+  if (is.null(flag)) {
+    return(field)
+  }
+  if (!is.logical(flag) || anyNA(flag)) {
+    abort_bayesbem(c("Column {.field estimated} of {.arg field} must be {.code TRUE} or {.code FALSE} in every row.",
+                     x = "It is {describe_value(flag)}.",
+                     i = "Flag the estimated readings {.code TRUE}, the others {.code FALSE}."),
+                   "columns", call = call)
+  }
+  if (any(flag)) {
+    cli::cli_inform(c(i = "Left out {sum(flag)} estimated reading{?s}: row{?s} {which(flag)} of {.arg field}."),
+                    class = "bayesbem_message_estimated")
+  }
+  field[!flag, setdiff(names(field), "estimated"), drop = FALSE]
 }
 
 # `field` itself when it is a bayesbem_data or bayesbem_outputs object, else

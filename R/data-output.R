@@ -37,7 +37,7 @@ koh_data_one <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, p
     x_max = apply(rbind(xf_raw, xc_raw), 2, max)
   )
   check_varies(scaling$y_scale, cols$eta, "sim", call = call)
-  check_units(field[[cols$y]], eta_raw, cols, call = call)
+  check_units(field[[cols$y]], eta_raw, cols, xf_raw, xc_raw, call = call)
   check_varies(scaling$x_max - scaling$x_min, cols$x, "field and sim together", call = call)
   check_varies(apply(tc_raw, 2, max) - apply(tc_raw, 2, min), cols$t, "sim", call = call)
   check_distinct_runs(cbind(xc_raw, tc_raw), call = call)
@@ -181,14 +181,24 @@ koh_columns <- function(field, sim, y, eta, x, t, call = rlang::caller_env()) {
 }
 
 # Bills and runs an order of magnitude apart are in other units (J against
-# kWh: 3.6e6) or of another meter; calibrating would only absorb the
-# mismatch in the discrepancy.
-check_units <- function(y, eta, cols, call = rlang::caller_env()) {
+# kWh: 3.6e6), of another meter or of other periods (weekly bills against
+# monthly runs); calibrating would only absorb the mismatch in the
+# discrepancy. Other periods show as field inputs (`xf`) that are none of
+# the runs' periods (`xc`, which the runs repeat) with outputs of another
+# size: a factor of 2 already (weeks against months: 4.3).
+check_units <- function(y, eta, cols, xf, xc, call = rlang::caller_env()) {
   size <- c(stats::median(abs(y)), stats::median(abs(eta)))
   if (any(size == 0)) {
     return(invisible())
   }
   ratio <- max(size) / min(size)
+  periods <- unique(value_keys(xc))
+  per_period <- length(periods) <= nrow(xc) / 2
+  if (ratio > 2 && per_period && !any(value_keys(xf) %in% periods)) {
+    abort_bayesbem(c("The field rows are other periods than the runs': none of the {nrow(xf)} field row{?s} has the inputs of one of the runs' {length(periods)} period{?s}, and their outputs differ by a factor of {signif(ratio, 2)}.",
+                     i = "Simulate the measurements' own periods, e.g. {.code bem_simulator(weather, periods = bills)} with each bill's {.field start} and {.field end}, or {.code by = \"week\"} for weekly data."),
+                   "periods", call = call)
+  }
   if (ratio > 10) {
     abort_bayesbem(c("The field output and the runs' output differ by a factor of {signif(ratio, 2)}: are they in the same units?",
                      x = "{.field {cols$y}} in {.arg field} has median size {signif(size[1], 3)}, {.field {cols$eta}} in {.arg sim} {signif(size[2], 3)}.",

@@ -102,5 +102,6 @@ aggregate_daily <- function(daily, days, call = rlang::caller_env()) {
                    "eplus_output", call = call)
   }
   combine <- if (identical(attr(daily, "type"), "Sum")) sum else mean
+  # days in no period (between bills) are left out
   as.vector(tapply(daily$value, days$period, combine))
 }

@@ -51,6 +51,10 @@
 #' @param key For an output variable reported for several objects, which one
 #'   (e.g. a zone name).
 #' @param by Field periods: `"month"`, `"week"` or `"day"`.
+#' @param periods Instead of `by`, the measurements' own periods (e.g.
+#'   bills), a data frame with columns `start` and `end` (see
+#'   [epw_weather()]); the daily output is summed over each, and when they
+#'   differ in length their `days` is an observable input too.
 #' @param timeout Time limit of each run, in seconds (whole seconds, rounded up).
 #' @param eplus Directory of EnergyPlus, see [eplus_path()].
 #' @return A `bayesbem_simulator`.
@@ -68,8 +72,11 @@
 eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", package = "bayesbem"),
                             weather, parameters = NULL, map = eplus_parameter_map(),
                             measures = list(), output = "Electricity:Facility", key = NULL,
-                            by = c("month", "week", "day"), timeout = 600, eplus = NULL) {
+                            by = c("month", "week", "day"), periods = NULL, timeout = 600,
+                            eplus = NULL) {
+  check_by_or_periods(by, periods)
   by <- match_choice(by)
+  if (!is.null(periods)) periods <- check_periods(periods)
   eplus <- eplus_path(eplus)
   check_file(weather, "weather")
   check_number(timeout, "argument", positive = TRUE)
@@ -90,9 +97,9 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
     check_model_fields(apply_parameters(model, map, measures, at), eplus)
   }
   hourly <- read_epw_hourly(weather)
-  days <- weather_days(hourly, by)
-  periods <- summarise_epw(hourly, by, path = weather)
-  x <- data.frame(temp = periods$temp, rh = periods$rh, solar = periods$dni)
+  days <- weather_days(hourly, by, periods, weather)
+  x <- weather_inputs(summarise_epw(hourly, by, path = weather, periods = periods),
+                      !is.null(periods))
   fun <- function(params, x) {
     dir <- tempfile("eplus-run-")
     on.exit(unlink(dir, recursive = TRUE), add = TRUE)
@@ -102,7 +109,8 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
       as.data.frame(stats::setNames(values, output), check.names = FALSE)
   }
   name <- sprintf("EnergyPlus %s: %s, %s by %s", model$version, basename(model$source),
-                  paste(output, collapse = " and "), by)
+                  paste(output, collapse = " and "),
+                  if (is.null(periods)) by else sprintf("%d periods of the data", nrow(periods)))
   simulator(fun, x, parameters, name = name,
             key = list(unname(tools::md5sum(weather)), model_files_md5(model)))
 }

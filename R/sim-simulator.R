@@ -126,8 +126,17 @@ output_simulator <- function(simulator, output) {
 #' monthly mean dry-bulb temperature `temp`, relative humidity `rh` and
 #' direct normal radiation `solar`, as in [seb_field].
 #'
+#' With `periods` (e.g. bills on their own dates, see [epw_weather()]) the
+#' model runs once per period, at the period's mean weather over its hours:
+#' the quasi-steady method holds for periods of a few weeks as for months.
+#' When the periods differ in length, their number of days is an observable
+#' input too (`days`): the emulator then learns that a longer bill holds
+#' more use.
+#'
 #' @param weather Monthly weather from [epw_monthly()], or the path of an EPW
 #'   file. Several years can be stacked with `rbind()`.
+#' @param periods With `weather` an EPW file: the measurements' own periods,
+#'   a data frame with columns `start` and `end` (see [epw_weather()]).
 #' @param parameters A parameter table (default [bem_parameters()]).
 #' @param building Building properties from [bem_building()].
 #' @param output `"electricity"`, `"gas"` (kWh per period) or both,
@@ -141,7 +150,7 @@ output_simulator <- function(simulator, output) {
 #' sim
 #' simulate_design(sim, data.frame(equipment_power_density = c(10, 20)))
 bem_simulator <- function(weather, parameters = bem_parameters(), building = bem_building(),
-                          output = "electricity") {
+                          output = "electricity", periods = NULL) {
   meters <- c("electricity", "gas")
   if (!is.character(output) || length(output) == 0L || anyNA(output) || anyDuplicated(output)) {
     abort_bayesbem("{.arg output} must be {.val electricity}, {.val gas} or both, not {describe_value(output)}.",
@@ -153,8 +162,15 @@ bem_simulator <- function(weather, parameters = bem_parameters(), building = bem
                      i = "Its meters: {.val {meters}}."),
                    "argument")
   }
-  if (is.character(weather)) weather <- epw_monthly(weather)
-  x <- data.frame(temp = weather$temp, rh = weather$rh, solar = weather$dni)
+  if (!is.null(periods) && !is.character(weather)) {
+    abort_bayesbem(c("With {.arg periods}, {.arg weather} must be the path of an EPW file.",
+                     i = "The periods' weather is summarised from its hours."),
+                   "argument")
+  }
+  if (is.character(weather)) {
+    weather <- if (is.null(periods)) epw_monthly(weather) else epw_weather(weather, periods = periods)
+  }
+  x <- weather_inputs(weather, !is.null(periods))
   fun <- if (length(output) == 1L) {
     function(params, x) bem_monthly(params, weather, building)[[output]]
   } else {
@@ -164,6 +180,15 @@ bem_simulator <- function(weather, parameters = bem_parameters(), building = bem
             name = paste0("embedded monthly building model, ", paste(output, collapse = " and "),
                           " (kWh)"),
             key = list(weather, building, output))
+}
+
+# A simulator's observable inputs from its weather table: the means
+# `temp`, `rh` and `solar`, and with the data's own `periods` their `days`
+# when they differ in length.
+weather_inputs <- function(weather, periods) {
+  x <- data.frame(temp = weather$temp, rh = weather$rh, solar = weather$dni)
+  if (periods && length(unique(weather$days)) > 1L) x$days <- weather$days
+  x
 }
 
 check_parameter_table <- function(parameters, arg = rlang::caller_arg(parameters),

@@ -1,4 +1,4 @@
-#' Weather by month, week or day from an EnergyPlus weather (EPW) file
+#' Weather by month, week, day or the data's own periods from an EPW file
 #'
 #' Reads the hourly records of an EPW file (plain or gzip-compressed) and
 #' returns, for each period, the means of the quantities that drive a
@@ -8,6 +8,14 @@
 #' daily forms. Periods follow the records in the order they appear, so any
 #' year works: a leap year's 29 February counts in February, and
 #' typical-year files (whose months come from different years) are handled.
+#'
+#' Bills do not run on calendar months: with `periods` (each bill's first
+#' and last day, inclusive), the rows are those periods, in their order.
+#' They may differ in length and leave gaps (a missing bill); overlapping,
+#' unsorted or backwards periods and periods with days the file lacks are
+#' errors of class `bayesbem_error_periods` naming the rows. A file of
+#' actual weather is matched by date; a typical-year file by month and day
+#' (it has no 29 February: a period holding one holds a day less).
 #' Values equal to the EPW format's missing-value codes (99.9 for
 #' temperatures, 999 for relative humidity, 9999 for radiation) are left out
 #' of the means; a period with no valid value of a quantity is an error.
@@ -19,11 +27,15 @@
 #'
 #' @param epw_path Path to an `.epw` or `.epw.gz` file.
 #' @param by `"month"`, `"week"` or `"day"`.
+#' @param periods Instead of `by`, the measurements' own periods: a data
+#'   frame with columns `start` and `end` (each period's first and last
+#'   day: `Date`s or `"YYYY-MM-DD"` strings), e.g. a table of bills.
 #' @param base_heating,base_cooling Base temperatures (degrees C) of the
 #'   heating and cooling degree-days, computed from daily mean temperatures.
-#' @return A data frame with one row per period: `date` (its first day, a
-#'   `Date`: the year is the records' own), `month` (1-12, of the first
-#'   day), `days`, `hours`, `temp` (mean dry-bulb temperature, degrees C),
+#' @return A data frame with one row per period: `date` and `end` (its
+#'   first and last day, `Date`s: the year is the records' own, or the
+#'   data's with `periods`), `month` (1-12, of the first day), `days`,
+#'   `hours` (those the file holds), `temp` (mean dry-bulb temperature, degrees C),
 #'   `rh` (mean relative humidity, percent), `solar` (mean direct normal
 #'   radiation, W/m2: the observable inputs `temp`, `rh` and `solar` of the
 #'   simulators and of [seb_field], so the table can be given to
@@ -39,27 +51,59 @@
 #' all.equal(w$temp, seb_field$temp)
 #' head(epw_daily(epw))
 #' head(epw_weather(epw, by = "week"))
-epw_weather <- function(epw_path, by = c("month", "week", "day"), base_heating = 18.3,
-                        base_cooling = 18.3) {
+#' # bills read on their own days
+#' bills <- data.frame(start = as.Date(c("2013-01-05", "2013-02-04", "2013-03-06")),
+#'                     end = as.Date(c("2013-02-03", "2013-03-05", "2013-04-03")))
+#' epw_weather(epw, periods = bills)
+epw_weather <- function(epw_path, by = c("month", "week", "day"), periods = NULL,
+                        base_heating = 18.3, base_cooling = 18.3) {
+  check_by_or_periods(by, periods)
   by <- match_choice(by)
+  if (!is.null(periods)) periods <- check_periods(periods)
   check_number(base_heating, "argument")
   check_number(base_cooling, "argument")
-  summarise_epw(read_epw_hourly(epw_path), by, base_heating, base_cooling, epw_path)
+  summarise_epw(read_epw_hourly(epw_path), by, base_heating, base_cooling, epw_path,
+                periods = periods)
 }
 
-# epw_weather() on records already read (`path` for messages).
+# A resolution or the data's own periods, not both.
+check_by_or_periods <- function(by, periods, call = rlang::caller_env()) {
+  if (!is.null(periods) && length(by) == 1L) {
+    abort_bayesbem(c("Give either {.arg by} or {.arg periods}, not both.",
+                     i = "{.arg periods} are the measurements' own days; {.arg by} cuts the weather into calendar periods."),
+                   "argument", call = call)
+  }
+}
+
+# epw_weather() on records already read (`path` for messages): one row per
+# period of `by`, or per row of `periods` (checked) when given.
 summarise_epw <- function(hourly, by, base_heating = 18.3, base_cooling = 18.3, path,
-                          call = rlang::caller_env()) {
+                          periods = NULL, call = rlang::caller_env()) {
   day <- record_days(hourly)
-  period <- record_periods(hourly, day, by)
+  period <- if (is.null(periods)) {
+    record_periods(hourly, day, by)
+  } else {
+    period_of_days(weather_days(hourly, "day"), periods, path, call)[day]
+  }
+  kept <- !is.na(period)
+  hourly <- hourly[kept, , drop = FALSE]
+  day <- day[kept]
+  period <- period[kept]
   daily_temp <- tapply(hourly$temp, day, mean, na.rm = TRUE)
   day_period <- tapply(period, day, `[`, 1)
-  first <- !duplicated(period)
+  # each period's first and last record (of a typical year, a period over
+  # the year's end holds January before December: its dates are the data's)
+  ids <- sort(unique(period))
+  first <- match(ids, period)
+  last <- length(period) + 1L - match(ids, rev(period))
+  date_of <- function(at) {
+    as.Date(sprintf("%04d-%02d-%02d", hourly$year[at], hourly$month[at], hourly$day[at]))
+  }
   mean_by <- function(v) as.vector(tapply(v, period, mean, na.rm = TRUE))
   out <- data.frame(
-    date = as.Date(sprintf("%04d-%02d-%02d", hourly$year[first], hourly$month[first],
-                           hourly$day[first])),
-    month = hourly$month[first],
+    date = if (is.null(periods)) date_of(first) else periods$start,
+    end = if (is.null(periods)) date_of(last) else periods$end,
+    month = if (is.null(periods)) hourly$month[first] else as.integer(format(periods$start, "%m")),
     days = as.vector(table(day_period)),
     hours = as.vector(table(period)),
     temp = mean_by(hourly$temp),
@@ -104,12 +148,15 @@ record_periods <- function(hourly, day, by) {
 
 new_run <- function(v) cumsum(c(TRUE, v[-1] != v[-length(v)]))
 
-# Each day of an EPW file (month, day) with its period, in order.
-weather_days <- function(hourly, by) {
+# Each day of an EPW file (year, month, day) with its period of `by`, or
+# its row of `periods` (NA when in none), in order.
+weather_days <- function(hourly, by, periods = NULL, path = NULL, call = rlang::caller_env()) {
   day <- record_days(hourly)
   first <- !duplicated(day)
-  data.frame(month = hourly$month[first], day = hourly$day[first],
-             period = record_periods(hourly, day, by)[first])
+  days <- data.frame(year = hourly$year[first], month = hourly$month[first],
+                     day = hourly$day[first], period = record_periods(hourly, day, by)[first])
+  if (!is.null(periods)) days$period <- period_of_days(days, periods, path, call)
+  days
 }
 
 # The hourly records of an EPW file with missing-value codes set to NA.

@@ -150,3 +150,32 @@ test_that("outputs in other units are an error that names both sizes", {
   # within an order of magnitude is the calibration's business
   expect_no_error(koh_data(seb_field, transform(seb_sim, eta = eta * 3)))
 })
+
+test_that("field rows of other periods than the runs' are named as such", {
+  withr::local_options(cli.num_colors = 1)
+  epw <- shipped_epw(2013)
+  pars <- bem_parameters()
+  pars <- pars[pars$parameter %in% c("equipment_power_density", "infiltration_per_exterior_area"), ]
+  monthly_runs <- simulate_design(bem_simulator(epw), design_lhs(pars, 6, seed = 1))
+  weekly <- simulate_field(bem_simulator(epw_weather(epw, by = "week")),
+                           list(equipment_power_density = 15), noise_sd = 5, seed = 2)
+  expect_snapshot(koh_data(weekly, monthly_runs), error = TRUE)
+  # the same periods in other units stay a units error
+  expect_error(koh_data(seb_field, transform(seb_sim, eta = eta * 11)),
+               class = "bayesbem_error_units")
+})
+
+test_that("estimated readings are left out with a message", {
+  field <- seb_field
+  field$estimated <- seq_len(12) %in% c(3, 7)
+  expect_message(d <- koh_data(field, seb_sim), "rows 3 and 7", class = "bayesbem_message_estimated")
+  expect_equal(d$n, 10)
+  expect_equal(d$field$y, seb_field$y[-c(3, 7)])
+  expect_false("estimated" %in% d$names$x)
+  field$estimated <- FALSE
+  expect_no_message(koh_data(field, seb_sim), class = "bayesbem_message_estimated")
+  field$estimated <- "no"
+  expect_error(koh_data(field, seb_sim), class = "bayesbem_error_columns")
+  field$estimated <- c(NA, rep(FALSE, 11))
+  expect_error(koh_data(field, seb_sim), class = "bayesbem_error_columns")
+})

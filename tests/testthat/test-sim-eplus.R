@@ -114,6 +114,20 @@ test_that("gas is an output like electricity", {
   expect_equal(base$eta, monthly$value, tolerance = 1e-6)
 })
 
+test_that("a meter is summed over the data's own periods", {
+  skip_if_no_eplus()
+  bills <- data.frame(start = as.Date(c("2013-01-05", "2013-02-04")),
+                      end = as.Date(c("2013-02-03", "2013-03-03")))
+  billed <- simulate_design(seb_eplus(periods = bills), data.frame(heating_setpoint = 18.3))
+  daily <- simulate_design(seb_eplus(by = "day"), data.frame(heating_setpoint = 18.3))$eta
+  dates <- seq(as.Date("2013-01-01"), by = "day", length.out = 365)
+  expect_equal(billed$eta, c(sum(daily[dates >= bills$start[1] & dates <= bills$end[1]]),
+                             sum(daily[dates >= bills$start[2] & dates <= bills$end[2]])),
+               tolerance = 1e-6)
+  expect_equal(billed$days, c(30, 28))
+  expect_error(seb_eplus(by = "day", periods = bills), class = "bayesbem_error_argument")
+})
+
 test_that("a failed run keeps the others and quotes EnergyPlus; the cache sees the model", {
   skip_if_no_eplus()
   sim <- seb_eplus()
@@ -144,15 +158,15 @@ one_zone_map <- function() {
              initial = c(352, 5.456), min = c(0, 2), max = c(1500, 8))
 }
 
-one_zone <- function(by = "month") {
+one_zone <- function(...) {
   path <- example_model_path("1ZoneUncontrolled_25_2.idf")
   eplus_simulator(path, shipped_epw(2013),
-                  map = one_zone_map(), output = "Zone Mean Air Temperature", by = by)
+                  map = one_zone_map(), output = "Zone Mean Air Temperature", ...)
 }
 
 test_that("a zone temperature is averaged over months and days (1ZoneUncontrolled)", {
   monthly <- one_zone()
-  daily <- one_zone("day")
+  daily <- one_zone(by = "day")
   design <- data.frame(equipment_gain = c(352, 1000))
   m <- simulate_design(monthly, design)
   d <- simulate_design(daily, design)
@@ -165,9 +179,19 @@ test_that("a zone temperature is averaged over months and days (1ZoneUncontrolle
   # more internal gain, a warmer zone in every month
   expect_true(all(m$eta[13:24] > m$eta[1:12] + 1))
   # weeks: seven days from the first record (the last one shorter)
-  weekly <- simulate_design(one_zone("week"), design[1, , drop = FALSE])
+  weekly <- simulate_design(one_zone(by = "week"), design[1, , drop = FALSE])
   week <- (seq_len(365) - 1) %/% 7 + 1
   expect_equal(weekly$eta, as.vector(tapply(d$eta[1:365], week, mean)), tolerance = 1e-9)
+  # the data's own periods, with a gap: the means of their days
+  bills <- data.frame(start = as.Date(c("2013-01-05", "2013-02-04", "2013-05-01")),
+                      end = as.Date(c("2013-02-03", "2013-03-05", "2013-05-28")))
+  billed <- one_zone(periods = bills)
+  expect_equal(billed$x$days, c(30, 30, 28))
+  b <- simulate_design(billed, design[1, , drop = FALSE])
+  dates <- seq(as.Date("2013-01-01"), by = "day", length.out = 365)
+  period <- findInterval(dates, bills$start)
+  period[period == 0 | dates > bills$end[pmax(period, 1)]] <- NA
+  expect_equal(b$eta, as.vector(tapply(d$eta[1:365], period, mean)), tolerance = 1e-9)
 })
 
 test_that("Morris screening, a Latin hypercube, calibration and the closed loop run on EnergyPlus", {
@@ -211,7 +235,7 @@ test_that("a zone temperature is calibrated by month and by day to a known truth
   # the 90 % interval is narrower than the prior's (1350)
   expect_lt(s["equipment_gain", "q95"] - s["equipment_gain", "q5"], 900)
   # daily: 28 days spread over the year, the runs at the same days
-  daily <- one_zone("day")
+  daily <- one_zone(by = "day")
   days <- seq(5, 365, by = 13)
   runs_d <- simulate_design(daily, design)
   runs_d <- runs_d[rep(seq_len(365), 10) %in% days, ]
