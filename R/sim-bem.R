@@ -50,7 +50,9 @@ bem_parameters <- function() {
 #'   share of the power densities in use), `occupant_gain` (W),
 #'   `outdoor_air` (m3/s), `fan_flow` (m3/s), `fan_pressure` (Pa),
 #'   `baseboard_share` (share of the heating need met by the baseboard, up
-#'   to its capacity).
+#'   to its capacity), `occupancy` (168 shares of full occupancy, hour by
+#'   hour of the week from Monday 0:00, for [bem_hourly()]: by default 1 on
+#'   weekdays from 7:00 to 19:00, 0 otherwise).
 #' @family simulation
 #' @export
 #' @examples
@@ -62,13 +64,21 @@ bem_building <- function(...) {
     shgc = 0.6, frame_factor = 0.8,
     kappa_wall = 80e3, kappa_roof = 50e3, kappa_internal = 110e3,
     lighting_fraction = 0.6, equipment_fraction = 0.7, occupant_gain = 200,
-    outdoor_air = 0.03, fan_flow = 0.45, fan_pressure = 500, baseboard_share = 0.15
+    outdoor_air = 0.03, fan_flow = 0.45, fan_pressure = 500, baseboard_share = 0.15,
+    occupancy = rep(c(rep(c(rep(0, 7), rep(1, 12), rep(0, 5)), 5), rep(0, 48)))
   )
   changes <- list(...)
   unknown <- setdiff(names(changes), names(defaults))
   if (length(unknown) > 0L || is.null(names(changes)) && length(changes) > 0L) {
     abort_bayesbem(c("Unknown building propert{?y/ies} {.field {unknown}}.",
                      i = "Known properties: {.field {names(defaults)}}."),
+                   "argument")
+  }
+  occupancy <- changes$occupancy
+  if (!is.null(occupancy) && (!is.numeric(occupancy) || length(occupancy) != 168L ||
+                              anyNA(occupancy) || any(occupancy < 0 | occupancy > 1))) {
+    abort_bayesbem(c("{.field occupancy} must be 168 shares between 0 and 1, one per hour of the week from Monday 0:00.",
+                     x = "It is {describe_value(occupancy)} of length {length(occupancy)}."),
                    "argument")
   }
   utils::modifyList(defaults, changes)
@@ -120,31 +130,57 @@ bem_building <- function(...) {
 #' w <- epw_monthly(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 #' bem_monthly(p, w)
 bem_monthly <- function(parameters, weather, building = bem_building()) {
-  p <- as.list(parameters)
+  k <- bem_constants(parameters, building)
+  p <- k$p
   b <- building
   hours <- weather$hours
-  a_window <- b$window_fraction * b$wall_area
-  a_wall <- b$wall_area - a_window
-  h_tr <- b$u_wall / p$wall_R_multiplier * a_wall + b$u_roof / p$roof_R_multiplier * b$roof_area +
-    b$u_window * a_window + b$floor_loss_factor * b$u_floor * b$floor_area
-  h_ve <- 1206 * (p$infiltration_per_exterior_area * (b$wall_area + b$roof_area) + b$outdoor_air)
-  h <- h_tr + h_ve
-  c_m <- b$kappa_wall * p$wall_density_multiplier * b$wall_area +
-    b$kappa_roof * p$roof_density_multiplier * b$roof_area + b$kappa_internal * b$floor_area
-  a <- 1 + c_m / h / 3600 / 15
-  p_fan <- b$fan_flow * b$fan_pressure / p$fan_total_efficiency
-  lights <- b$lighting_fraction * p$lighting_power_density * b$floor_area * hours
-  equipment <- b$equipment_fraction * p$equipment_power_density * b$floor_area * hours
-  i_vert <- 0.2 * weather$dni + 0.5 * weather$dhi + 0.1 * weather$ghi
-  gains <- lights + equipment + b$occupant_gain * hours + p_fan * p$fan_motor_efficiency * hours +
-    i_vert * a_window * b$shgc * b$frame_factor * hours
+  h <- k$h_tr + k$h_ve
+  a <- 1 + k$c_m / h / 3600 / 15
+  lights <- k$lights * hours
+  equipment <- k$equipment * hours
+  gains <- lights + equipment + k$occupants * hours + k$fan_heat * hours + k$solar(weather) * hours
   loss_heating <- h * (p$heating_setpoint - weather$temp) * hours
   loss_cooling <- h * (p$cooling_setpoint - weather$temp) * hours
   heating <- ifelse(loss_heating > 0,
                     pmax(loss_heating - gain_utilisation(gains / loss_heating, a) * gains, 0), 0)
   cooling <- pmax(gains - loss_utilisation(loss_cooling / gains, a) * loss_cooling, 0)
-  baseboard <- pmin(b$baseboard_share * heating, p$baseboard_capacity * hours)
-  electricity <- lights + equipment + p_fan * hours + cooling / p$dx_cooling_cop + baseboard
+  bem_meters(k, heating, cooling, lights + equipment + k$p_fan * hours, hours)
+}
+
+# What the embedded models share (W, W/K, J/K; see ?bem_monthly): the
+# transmission and ventilation conductances, the heat capacity, the mean
+# power of lights, equipment, occupants and the fan (its heat to the air
+# after the motor), and the facades' solar gain as a function of weather.
+bem_constants <- function(parameters, b) {
+  p <- as.list(parameters)
+  a_window <- b$window_fraction * b$wall_area
+  a_wall <- b$wall_area - a_window
+  wall <- b$u_wall / p$wall_R_multiplier * a_wall
+  roof <- b$u_roof / p$roof_R_multiplier * b$roof_area
+  floor <- b$floor_loss_factor * b$u_floor * b$floor_area
+  p_fan <- b$fan_flow * b$fan_pressure / p$fan_total_efficiency
+  list(p = p, a_window = a_window, h_tr_op = wall + roof + floor, h_tr_w = b$u_window * a_window,
+       h_tr = wall + roof + b$u_window * a_window + floor,
+       h_ve = 1206 * (p$infiltration_per_exterior_area * (b$wall_area + b$roof_area) + b$outdoor_air),
+       c_m = b$kappa_wall * p$wall_density_multiplier * b$wall_area +
+         b$kappa_roof * p$roof_density_multiplier * b$roof_area + b$kappa_internal * b$floor_area,
+       p_fan = p_fan, fan_heat = p_fan * p$fan_motor_efficiency,
+       lights = b$lighting_fraction * p$lighting_power_density * b$floor_area,
+       equipment = b$equipment_fraction * p$equipment_power_density * b$floor_area,
+       occupants = b$occupant_gain, baseboard_share = b$baseboard_share,
+       solar = function(weather) {
+         (0.2 * weather$dni + 0.5 * weather$dhi + 0.1 * weather$ghi) * a_window * b$shgc * b$frame_factor
+       })
+}
+
+# The meters from the heating and cooling needs (Wh per period of `hours`
+# hours) and the other electric use: the baseboard meets its share of the
+# heating need up to its capacity, gas the rest at the burner's efficiency,
+# the DX coil the cooling need at its COP. kWh.
+bem_meters <- function(k, heating, cooling, other_electricity, hours) {
+  p <- k$p
+  baseboard <- pmin(k$baseboard_share * heating, p$baseboard_capacity * hours)
+  electricity <- other_electricity + cooling / p$dx_cooling_cop + baseboard
   gas <- (heating - baseboard) / p$gas_burner_efficiency
   data.frame(electricity = electricity / 1000, gas = gas / 1000,
              heating_need = heating / 1000, cooling_need = cooling / 1000)

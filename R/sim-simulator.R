@@ -118,13 +118,20 @@ output_simulator <- function(simulator, output) {
             key = list(simulator_key(simulator), output))
 }
 
-#' The embedded monthly building model as a simulator
+#' The embedded building model as a simulator
 #'
 #' The default simulator of the package: [bem_monthly()] driven by the
 #' monthly means of an EPW weather file, so that screening, design and
 #' calibration run without external software. Its observable inputs are the
 #' monthly mean dry-bulb temperature `temp`, relative humidity `rh` and
 #' direct normal radiation `solar`, as in [seb_field].
+#'
+#' By week, day or hour it is the hourly model ([bem_hourly()], the same
+#' building and parameters) over the weather file, summed into weeks or
+#' days, or hour by hour: interval data without EnergyPlus. Its inputs are
+#' then the periods' mean weather, and by day also the `weekday` (1
+#' Monday to 7 Sunday), by hour the `hour` (0-23) and `weekday`: the
+#' schedules act by hour of the week.
 #'
 #' With `periods` (e.g. bills on their own dates, see [epw_weather()]) the
 #' model runs once per period, at the period's mean weather over its hours:
@@ -135,6 +142,9 @@ output_simulator <- function(simulator, output) {
 #'
 #' @param weather Monthly weather from [epw_monthly()], or the path of an EPW
 #'   file. Several years can be stacked with `rbind()`.
+#' @param by With `weather` an EPW file: `"month"` (the monthly model) or
+#'   `"week"`, `"day"`, `"hour"`: the hourly model ([bem_hourly()]) over
+#'   the whole file, summed into weeks or days or hour by hour.
 #' @param periods With `weather` an EPW file: the measurements' own periods,
 #'   a data frame with columns `start` and `end` (see [epw_weather()]).
 #' @param parameters A parameter table (default [bem_parameters()]).
@@ -150,7 +160,10 @@ output_simulator <- function(simulator, output) {
 #' sim
 #' simulate_design(sim, data.frame(equipment_power_density = c(10, 20)))
 bem_simulator <- function(weather, parameters = bem_parameters(), building = bem_building(),
-                          output = "electricity", periods = NULL) {
+                          output = "electricity", by = c("month", "week", "day", "hour"),
+                          periods = NULL) {
+  check_by_or_periods(by, periods)
+  by <- match_choice(by)
   meters <- c("electricity", "gas")
   if (!is.character(output) || length(output) == 0L || anyNA(output) || anyDuplicated(output)) {
     abort_bayesbem("{.arg output} must be {.val electricity}, {.val gas} or both, not {describe_value(output)}.",
@@ -162,24 +175,53 @@ bem_simulator <- function(weather, parameters = bem_parameters(), building = bem
                      i = "Its meters: {.val {meters}}."),
                    "argument")
   }
-  if (!is.null(periods) && !is.character(weather)) {
-    abort_bayesbem(c("With {.arg periods}, {.arg weather} must be the path of an EPW file.",
+  if ((!is.null(periods) || by != "month") && !is.character(weather)) {
+    abort_bayesbem(c("With {.arg periods} or {.arg by}, {.arg weather} must be the path of an EPW file.",
                      i = "The periods' weather is summarised from its hours."),
                    "argument")
+  }
+  if (by %in% c("week", "day", "hour")) {
+    return(bem_hourly_simulator(weather, parameters, building, output, by))
   }
   if (is.character(weather)) {
     weather <- if (is.null(periods)) epw_monthly(weather) else epw_weather(weather, periods = periods)
   }
   x <- weather_inputs(weather, !is.null(periods))
-  fun <- if (length(output) == 1L) {
-    function(params, x) bem_monthly(params, weather, building)[[output]]
-  } else {
-    function(params, x) bem_monthly(params, weather, building)[output]
-  }
-  simulator(fun, x, parameters,
+  fun <- function(params, x) bem_monthly(params, weather, building)[output]
+  simulator(one_or_outputs(fun, output), x, parameters,
             name = paste0("embedded monthly building model, ", paste(output, collapse = " and "),
                           " (kWh)"),
             key = list(weather, building, output))
+}
+
+# bem_simulator() by week, day or hour: the hourly model over the whole
+# weather file, summed into the periods; its inputs are the periods' mean
+# weather and, by day, the weekday, by hour the hour and the weekday (the
+# schedules act by hour of week).
+bem_hourly_simulator <- function(path, parameters, building, output, by) {
+  hourly <- epw_weather(path, by = "hour")
+  # days and weeks as epw_weather() counts them: days in record order,
+  # weeks seven days from the first
+  day <- cumsum(c(TRUE, diff(as.numeric(hourly$date)) != 0))
+  period <- switch(by, hour = seq_len(nrow(hourly)), day = day, week = (day - 1L) %/% 7L + 1L)
+  weather <- if (by == "hour") hourly else epw_weather(path, by = by)
+  x <- weather_inputs(weather, FALSE)
+  if (by != "week") x$weekday <- if (by == "hour") hourly$weekday else hourly$weekday[!duplicated(period)]
+  if (by == "hour") x$hour <- hourly$hour
+  fun <- function(params, x) {
+    out <- bem_hourly(params, hourly, building)[output]
+    if (by == "hour") out else as.data.frame(lapply(out, function(v) as.vector(tapply(v, period, sum))))
+  }
+  simulator(one_or_outputs(fun, output), x, parameters,
+            name = sprintf("embedded hourly building model by %s, %s (kWh)", by,
+                           paste(output, collapse = " and ")),
+            key = list(hourly, building, output, by))
+}
+
+# A simulator function of the meters `output`: the vector of one, the data
+# frame of several.
+one_or_outputs <- function(fun, output) {
+  if (length(output) > 1L) fun else function(params, x) fun(params, x)[[1]]
 }
 
 # A simulator's observable inputs from its weather table: the means

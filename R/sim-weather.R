@@ -26,7 +26,7 @@
 #' do (each row is a period of `hours` hours).
 #'
 #' @param epw_path Path to an `.epw` or `.epw.gz` file.
-#' @param by `"month"`, `"week"` or `"day"`.
+#' @param by `"month"`, `"week"`, `"day"` or `"hour"`.
 #' @param periods Instead of `by`, the measurements' own periods: a data
 #'   frame with columns `start` and `end` (each period's first and last
 #'   day: `Date`s or `"YYYY-MM-DD"` strings), e.g. a table of bills.
@@ -41,7 +41,13 @@
 #'   simulators and of [seb_field], so the table can be given to
 #'   [predict()] as it is), `dni` (the same, under the EPW's name), `dhi` (mean diffuse horizontal radiation, W/m2),
 #'   `ghi` (mean global horizontal radiation, W/m2), `hdd` and `cdd`
-#'   (degree-days, K day).
+#'   (degree-days, K day). By hour, one row per record, with also `time`
+#'   (the hour's start, `POSIXct` in the file's standard time: EPW records
+#'   are numbered by the hour they end and ignore daylight-saving time),
+#'   `hour` (0-23, of `time`) and `weekday` (1 Monday to 7 Sunday: by the
+#'   calendar for actual weather, from the header's first day for a
+#'   typical year); `hdd` and `cdd` are then the hour's share of degree-days
+#'   from its own temperature, and a missing value is an error.
 #' @family simulation
 #' @export
 #' @examples
@@ -55,15 +61,18 @@
 #' bills <- data.frame(start = as.Date(c("2013-01-05", "2013-02-04", "2013-03-06")),
 #'                     end = as.Date(c("2013-02-03", "2013-03-05", "2013-04-03")))
 #' epw_weather(epw, periods = bills)
-epw_weather <- function(epw_path, by = c("month", "week", "day"), periods = NULL,
+epw_weather <- function(epw_path, by = c("month", "week", "day", "hour"), periods = NULL,
                         base_heating = 18.3, base_cooling = 18.3) {
   check_by_or_periods(by, periods)
   by <- match_choice(by)
   if (!is.null(periods)) periods <- check_periods(periods)
   check_number(base_heating, "argument")
   check_number(base_cooling, "argument")
-  summarise_epw(read_epw_hourly(epw_path), by, base_heating, base_cooling, epw_path,
-                periods = periods)
+  hourly <- read_epw_hourly(epw_path)
+  if (by == "hour") {
+    return(hourly_weather(hourly, epw_path, base_heating, base_cooling))
+  }
+  summarise_epw(hourly, by, base_heating, base_cooling, epw_path, periods = periods)
 }
 
 # A resolution or the data's own periods, not both.
@@ -184,9 +193,62 @@ read_epw_hourly <- function(epw_path, call = rlang::caller_env()) {
     v[!is.na(v) & v >= missing_code] <- NA_real_
     v
   }
-  # EPW fields: 1 year, 2 month, 3 day, 7 dry bulb, 9 relative humidity,
-  # 14 global horizontal, 15 direct normal, 16 diffuse horizontal radiation
-  data.frame(year = as.integer(raw[[1]]), month = as.integer(raw[[2]]), day = as.integer(raw[[3]]),
-             temp = field(7, 99.9), rh = field(9, 999),
-             ghi = field(14, 9999), dni = field(15, 9999), dhi = field(16, 9999))
+  # EPW fields: 1 year, 2 month, 3 day, 4 hour (1-24, the hour ending), 7
+  # dry bulb, 9 relative humidity, 14 global horizontal, 15 direct normal,
+  # 16 diffuse horizontal radiation; the header's LOCATION ends with the
+  # time zone (hours from GMT), DATA PERIODS gives the first day's weekday
+  location <- strsplit(header[1], ",")[[1]]
+  periods <- trimws(strsplit(header[8], ",")[[1]])
+  structure(
+    data.frame(year = as.integer(raw[[1]]), month = as.integer(raw[[2]]),
+               day = as.integer(raw[[3]]), hour = as.integer(raw[[4]]),
+               temp = field(7, 99.9), rh = field(9, 999),
+               ghi = field(14, 9999), dni = field(15, 9999), dhi = field(16, 9999)),
+    time_zone = suppressWarnings(as.numeric(location[9])),
+    first_weekday = match(tolower(periods[5]), tolower(weekday_names))
+  )
+}
+
+weekday_names <- c("Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday", "Sunday")
+
+# Each record's day of the week, 1 (Monday) to 7: a file of actual weather
+# (consecutive dates) by the calendar, a typical year from the weekday its
+# DATA PERIODS line gives the first day, as EnergyPlus counts them.
+record_weekdays <- function(hourly, day = record_days(hourly)) {
+  dates <- as.Date(sprintf("%04d-%02d-%02d", hourly$year, hourly$month, hourly$day))
+  first <- !duplicated(day)
+  if (all(diff(as.numeric(dates[first])) == 1)) {
+    return(as.integer(format(dates, "%u")))
+  }
+  start <- attr(hourly, "first_weekday")
+  if (is.null(start) || is.na(start)) start <- 1L
+  as.integer((start - 1L + day - 1L) %% 7L + 1L)
+}
+
+# epw_weather(by = "hour"): every record, its hour starting at `time` in
+# the file's standard time (EPW records end the hour they are numbered).
+hourly_weather <- function(hourly, path, base_heating = 18.3, base_cooling = 18.3,
+                           call = rlang::caller_env()) {
+  missing <- vapply(hourly[c("temp", "rh", "dni", "dhi", "ghi")], function(v) sum(is.na(v)), integer(1))
+  if (any(missing > 0L)) {
+    first <- which(is.na(hourly[[names(missing)[missing > 0L][1]]]))[1]
+    abort_bayesbem(c("{.file {path}} has missing values (EPW missing codes) that an hourly model cannot run on.",
+                     x = "{.field {names(missing)[missing > 0L]}}: {missing[missing > 0L]} hour{?s}; the first on {hourly$year[first]}-{hourly$month[first]}-{hourly$day[first]}, hour {hourly$hour[first]}.",
+                     i = "Fill them (e.g. by interpolation) before an hourly simulation."),
+                   "weather", call = call)
+  }
+  offset <- attr(hourly, "time_zone")
+  zone <- if (!is.na(offset) && offset == round(offset)) {
+    if (offset == 0) "UTC" else sprintf("Etc/GMT%+d", -offset)
+  } else {
+    "UTC"
+  }
+  dates <- as.Date(sprintf("%04d-%02d-%02d", hourly$year, hourly$month, hourly$day))
+  start <- as.POSIXct(paste(format(dates), sprintf("%02d:00:00", hourly$hour - 1L)), tz = zone)
+  data.frame(time = start, date = dates, end = dates, month = hourly$month,
+             hour = hourly$hour - 1L, weekday = record_weekdays(hourly),
+             days = 1 / 24, hours = 1, temp = hourly$temp, rh = hourly$rh, solar = hourly$dni,
+             dni = hourly$dni, dhi = hourly$dhi, ghi = hourly$ghi,
+             hdd = pmax(base_heating - hourly$temp, 0) / 24,
+             cdd = pmax(hourly$temp - base_cooling, 0) / 24)
 }
