@@ -98,8 +98,8 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
   }
   hourly <- read_epw_hourly(weather)
   days <- weather_days(hourly, by, periods, weather)
-  x <- weather_inputs(summarise_epw(hourly, by, path = weather, periods = periods),
-                      !is.null(periods))
+  summary <- summarise_epw(hourly, by, path = weather, periods = periods)
+  x <- weather_inputs(summary, !is.null(periods))
   fun <- function(params, x) {
     dir <- tempfile("eplus-run-")
     on.exit(unlink(dir, recursive = TRUE), add = TRUE)
@@ -112,7 +112,8 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
                   paste(output, collapse = " and "),
                   if (is.null(periods)) by else sprintf("%d periods of the data", nrow(periods)))
   simulator(fun, x, parameters, name = name,
-            key = list(unname(tools::md5sum(weather)), model_files_md5(model)))
+            key = list(unname(tools::md5sum(weather)), model_files_md5(model)),
+            periods = weather_periods(summary))
 }
 
 # `output` names one or more meters or output variables, each once.

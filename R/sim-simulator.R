@@ -21,6 +21,10 @@
 #'   code of `fun`, the values (at the time of the runs) of the variables
 #'   `fun` uses from outside (not environments), the inputs `x` and the
 #'   parameter values. Give e.g. the contents of files `fun` reads.
+#' @param periods Optional: when each row of `x` is, a data frame with
+#'   `start` and `end` (`Date`s, the first and last day, or for hours
+#'   `POSIXct`s, the hour's start and the next's); [field_hours()] matches
+#'   a meter's timestamps to them. The weather-driven simulators set it.
 #' @return An object of class `bayesbem_simulator`.
 #' @family simulation
 #' @export
@@ -31,15 +35,31 @@
 #'                                          min = c(0, -5), max = c(2, 5)))
 #' lin
 #' simulate_design(lin, data.frame(a = c(0.5, 1.5)))
-simulator <- function(fun, x, parameters, name = "custom simulator", key = NULL) {
+simulator <- function(fun, x, parameters, name = "custom simulator", key = NULL,
+                      periods = NULL) {
   if (!is.function(fun)) {
     abort_bayesbem("{.arg fun} must be a function {.code fun(params, x)}.", "argument")
   }
   x <- as_numeric_table(x)
   check_numeric_complete(x, names(x), "x")
+  if (!is.null(periods) && (!is.data.frame(periods) || !all(c("start", "end") %in% names(periods)) ||
+                            nrow(periods) != nrow(x))) {
+    abort_bayesbem(c("{.arg periods} must be a data frame with {.field start} and {.field end}, one row per row of {.arg x} ({nrow(x)}).",
+                     x = "It is {describe_value(periods)}."),
+                   "argument")
+  }
   structure(list(fun = fun, x = x, parameters = check_parameter_table(parameters), name = name,
-                 key = key),
+                 key = key, periods = periods),
             class = "bayesbem_simulator")
+}
+
+# The periods of a weather table (epw_weather()'s `date` and `end`, or by
+# hour its `time` and the next hour), NULL for a table without them.
+weather_periods <- function(weather) {
+  if (!is.null(weather$time)) {
+    return(data.frame(start = weather$time, end = weather$time + 3600))
+  }
+  if (all(c("date", "end") %in% names(weather))) data.frame(start = weather$date, end = weather$end)
 }
 
 # What determines a simulator's output besides the inputs and parameters:
@@ -115,7 +135,7 @@ output_simulator <- function(simulator, output) {
     values[[output]]
   }
   simulator(one, simulator$x, simulator$parameters, name = paste0(simulator$name, ": ", output),
-            key = list(simulator_key(simulator), output))
+            key = list(simulator_key(simulator), output), periods = simulator$periods)
 }
 
 #' The embedded building model as a simulator
@@ -191,7 +211,7 @@ bem_simulator <- function(weather, parameters = bem_parameters(), building = bem
   simulator(one_or_outputs(fun, output), x, parameters,
             name = paste0("embedded monthly building model, ", paste(output, collapse = " and "),
                           " (kWh)"),
-            key = list(weather, building, output))
+            key = list(weather, building, output), periods = weather_periods(weather))
 }
 
 # bem_simulator() by week, day or hour: the hourly model over the whole
@@ -215,7 +235,7 @@ bem_hourly_simulator <- function(path, parameters, building, output, by) {
   simulator(one_or_outputs(fun, output), x, parameters,
             name = sprintf("embedded hourly building model by %s, %s (kWh)", by,
                            paste(output, collapse = " and ")),
-            key = list(hourly, building, output, by))
+            key = list(hourly, building, output, by), periods = weather_periods(weather))
 }
 
 # A simulator function of the meters `output`: the vector of one, the data

@@ -1,0 +1,93 @@
+# The hourly embedded model of 2013 and its use at one setting, by hour.
+hourly_truth <- local({
+  made <- NULL
+  function() {
+    if (is.null(made)) {
+      sim <- bem_simulator(shipped_epw(2013), by = "hour")
+      design <- data.frame(equipment_power_density = 15, infiltration_per_exterior_area = 8e-4)
+      made <<- list(sim = sim, use = simulate_design(sim, design)$eta)
+    }
+    made
+  }
+})
+
+# The simulator's hour (row) of each instant.
+hour_of <- function(sim, time) {
+  floor(as.numeric(difftime(time, sim$periods$start[1], units = "hours"))) + 1
+}
+
+test_that("15-minute readings stamped at their end sum to the simulator's hours, across DST", {
+  truth <- hourly_truth()
+  sim <- truth$sim
+  # 8 to 12 March 2013 in Denver, whose clocks moved from 2:00 to 3:00 on the 10th
+  time <- as.POSIXct("2013-03-08 00:15", tz = "America/Denver") + 900 * (0:(4 * 24 * 4 - 1))
+  y <- truth$use[hour_of(sim, time - 900)] / 4
+  field <- field_hours(sim, time, y, stamps = "end")
+  rows <- hour_of(sim, field$time)
+  expect_equal(field$y, truth$use[rows])
+  expect_equal(field[names(sim$x)], sim$x[rows, ], ignore_attr = TRUE)
+  # every hour is one of the weather's, none repeated or skipped at the change
+  expect_equal(diff(rows), rep(1, length(rows) - 1))
+  # (local midnight is 0:00 standard time until the change, 23:00 after it)
+  expect_equal(format(field$time[1], "%H:%M"), "00:00")
+  expect_equal(nrow(field), 4 * 24)
+  # an hour covered in part is left out, with a message
+  expect_message(part <- field_hours(sim, time[-1], y[-1], stamps = "end"), "1 hour",
+                 class = "bayesbem_message_partial_hours")
+  expect_equal(part, field[-1, ], ignore_attr = TRUE)
+})
+
+test_that("readings shifted by an hour are found, not absorbed", {
+  truth <- hourly_truth()
+  sim <- truth$sim
+  time <- as.POSIXct("2013-07-01 01:00", tz = "America/Denver") + 3600 * (0:(24 * 14 - 1))
+  y <- truth$use[hour_of(sim, time - 3600)]
+  expect_no_warning(field_hours(sim, time, y, stamps = "end"))
+  expect_warning(field_hours(sim, time, y, stamps = "start"), "1 hour earlier",
+                 class = "bayesbem_warning_time_shift")
+  expect_warning(field_hours(sim, time - 3600, y, stamps = "end"), "1 hour later",
+                 class = "bayesbem_warning_time_shift")
+})
+
+test_that("bad readings are classed errors that name the rows", {
+  withr::local_options(cli.num_colors = 1)
+  truth <- hourly_truth()
+  sim <- truth$sim
+  time <- as.POSIXct("2013-07-01 00:00", tz = "UTC") + 3600 * (0:5)
+  y <- rep(1, 6)
+  expect_snapshot(error = TRUE, {
+    field_hours(sim, time[c(1, 3, 2, 4:6)], y)
+    field_hours(sim, time[c(1, 2, 2, 4:6)], y)
+    field_hours(sim, time + c(0, 0, 0, 1200, 1200, 1200), y)
+    field_hours(sim, format(time), y)
+    field_hours(sim, time + 365 * 86400, y)
+    field_hours(bem_simulator(shipped_epw(2013)), time, y)
+  })
+  expect_error(field_hours(sim, time, y[-1]), class = "bayesbem_error_argument")
+  expect_error(field_hours(sim, time, replace(y, 2, NA)), class = "bayesbem_error_missing")
+})
+
+test_that("hours of meter data calibrate, the truth inside the posterior", {
+  skip_on_cran()
+  truth <- hourly_truth()
+  sim <- truth$sim
+  # two days of hourly readings with noise, stamped at their start
+  time <- as.POSIXct("2013-02-04 00:00", tz = "Etc/GMT+7") + 3600 * (0:47)
+  y <- truth$use[hour_of(sim, time)] + withr::with_seed(test_seed(1), stats::rnorm(48, 0, 0.05))
+  field <- field_hours(sim, time, y)
+  pars <- bem_parameters()
+  pars <- pars[pars$parameter %in% c("equipment_power_density", "infiltration_per_exterior_area"), ]
+  hours <- hour_of(sim, field$time)
+  runs <- simulate_design(sim, design_lhs(pars, 12, seed = 1))
+  runs <- runs[rep(seq_len(nrow(sim$x)), 12) %in% hours, ]
+  fit <- suppressWarnings(calibrate(field, runs, chains = 2, iter = 600, seed = test_seed(2)),
+                          classes = "bayesbem_warning_convergence")
+  expect_equal(fit$data$names$period, "time")
+  draws <- posterior::as_draws_matrix(fit)
+  for (name in c("equipment_power_density", "infiltration_per_exterior_area")) {
+    z <- (mean(draws[, name]) - c(equipment_power_density = 15,
+                                  infiltration_per_exterior_area = 8e-4)[[name]]) /
+      stats::sd(draws[, name])
+    expect_lt(abs(z), 4, label = name)
+  }
+})
