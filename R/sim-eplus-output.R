@@ -71,24 +71,39 @@ output_entry <- function(con, name, key, frequency, call = rlang::caller_env()) 
 # have no colon (Zone Mean Air Temperature).
 is_meter <- function(name) grepl(":", name, fixed = TRUE)
 
-# The model with `name` reported daily, as an Output:Meter or an
-# Output:Variable (for every key: the key is chosen when reading).
-with_daily_output <- function(model, name) {
+# The model with `name` reported at `frequency` ("Daily", "Hourly"), as an
+# Output:Meter or an Output:Variable (for every key: the key is chosen
+# when reading).
+with_output <- function(model, name, frequency = "Daily") {
   class <- if (is_meter(name)) "Output:Meter" else "Output:Variable"
   field <- if (is_meter(name)) "key_name" else "variable_name"
-  daily <- vapply(model$json[[class]] %||% list(), function(o) {
+  present <- vapply(model$json[[class]] %||% list(), function(o) {
     tolower(o[[field]] %||% "") == tolower(name) &&
-      tolower(o$reporting_frequency %||% "hourly") == "daily" &&
+      tolower(o$reporting_frequency %||% "hourly") == tolower(frequency) &&
       (is_meter(name) || (o$key_value %||% "*") == "*")
   }, logical(1))
-  if (any(daily)) {
+  if (any(present)) {
     return(model)
   }
   if (is_meter(name)) {
-    eplus_add(model, class, key_name = name, reporting_frequency = "Daily")
+    eplus_add(model, class, key_name = name, reporting_frequency = frequency)
   } else {
-    eplus_add(model, class, key_value = "*", variable_name = name, reporting_frequency = "Daily")
+    eplus_add(model, class, key_value = "*", variable_name = name, reporting_frequency = frequency)
   }
+}
+
+# Hourly values as the weather's records: EnergyPlus stamps an hour by its
+# end (Hour 1 is 0:00 to 1:00), as EPW records are numbered, so the run
+# must report the records' (month, day, hour) in order.
+hourly_values <- function(values, hourly, call = rlang::caller_env()) {
+  same <- nrow(values) == nrow(hourly) && all(values$month == hourly$month &
+                                                values$day == hourly$day & values$hour == hourly$hour)
+  if (!same) {
+    abort_bayesbem(c("EnergyPlus reported {nrow(values)} hour{?s}, but the weather has {nrow(hourly)}.",
+                     i = "Make the model's {.field RunPeriod} cover the weather file's days, from {hourly$month[1]}/{hourly$day[1]} to {hourly$month[nrow(hourly)]}/{hourly$day[nrow(hourly)]}."),
+                   "eplus_output", call = call)
+  }
+  values$value
 }
 
 # Daily values summed (energy) or averaged (rates, temperatures) over the

@@ -40,7 +40,37 @@ eplus_run <- function(model, weather, dir = NULL, timeout = 600, eplus = NULL) {
   check_number(timeout, "argument", positive = TRUE)
   eplus <- eplus_path(eplus)
   check_model_fields(model, eplus)
+  model <- weather_run_years(model, read_epw_hourly(weather))
   run_model(with_sqlite(model), weather, eplus, dir, timeout)
+}
+
+# A RunPeriod dated in another year than a file of actual weather
+# (consecutive dates) cannot run on it: EnergyPlus then reports a year
+# of the wrong length or weekdays of another calendar. Such periods take
+# the weather's years, with a message; undated periods are left as the
+# model has them (its start weekday).
+weather_run_years <- function(model, hourly) {
+  dates <- as.Date(sprintf("%04d-%02d-%02d", hourly$year, hourly$month, hourly$day))
+  if (is.null(model$json$RunPeriod) || !all(diff(as.numeric(unique(dates))) == 1)) {
+    return(model)
+  }
+  years <- hourly$year[c(1, nrow(hourly))]
+  dated <- vapply(model$json$RunPeriod, function(period) {
+    !is.null(period$begin_year) && !identical(as.integer(c(period$begin_year, period$end_year %||% period$begin_year)),
+                                               as.integer(years))
+  }, logical(1))
+  if (!any(dated)) {
+    return(model)
+  }
+  cli::cli_inform(c(i = "The model's {.field RunPeriod} {.val {names(dated)[dated]}} {?is/are} dated {model$json$RunPeriod[[which(dated)[1]]]$begin_year}; run on the weather's years, {paste(unique(years), collapse = '-')}, with their weekdays."),
+                  class = "bayesbem_message_run_period")
+  model$json$RunPeriod[dated] <- lapply(model$json$RunPeriod[dated], function(period) {
+    period$begin_year <- years[1]
+    period$end_year <- years[2]
+    period$day_of_week_for_start_day <- NULL
+    period
+  })
+  model
 }
 
 #' @rdname eplus_run

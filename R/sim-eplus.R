@@ -50,7 +50,10 @@
 #'   outputs (see [koh_data()]).
 #' @param key For an output variable reported for several objects, which one
 #'   (e.g. a zone name).
-#' @param by Field periods: `"month"`, `"week"` or `"day"`.
+#' @param by Field periods: `"month"`, `"week"`, `"day"` or `"hour"` (the
+#'   model's hourly output as EnergyPlus reports it, each hour stamped by
+#'   its end as the weather's records are; the inputs as
+#'   [bem_simulator()]'s by hour).
 #' @param periods Instead of `by`, the measurements' own periods (e.g.
 #'   bills), a data frame with columns `start` and `end` (see
 #'   [epw_weather()]); the daily output is summed over each, and when they
@@ -72,7 +75,7 @@
 eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", package = "bayesbem"),
                             weather, parameters = NULL, map = eplus_parameter_map(),
                             measures = list(), output = "Electricity:Facility", key = NULL,
-                            by = c("month", "week", "day"), periods = NULL, timeout = 600,
+                            by = c("month", "week", "day", "hour"), periods = NULL, timeout = 600,
                             eplus = NULL) {
   check_by_or_periods(by, periods)
   by <- match_choice(by)
@@ -91,20 +94,30 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
                    "parameters")
   }
   check_eplus_outputs(output)
-  model <- with_sqlite(Reduce(with_daily_output, output, model))
+  frequency <- if (by == "hour") "Hourly" else "Daily"
+  model <- with_sqlite(Reduce(function(m, o) with_output(m, o, frequency), output, model))
   for (end in c("min", "max")) {
     at <- stats::setNames(as.list(parameters[[end]]), parameters$parameter)
     check_model_fields(apply_parameters(model, map, measures, at), eplus)
   }
   hourly <- read_epw_hourly(weather)
-  days <- weather_days(hourly, by, periods, weather)
-  summary <- summarise_epw(hourly, by, path = weather, periods = periods)
-  x <- weather_inputs(summary, !is.null(periods))
+  model <- weather_run_years(model, hourly)
+  if (by == "hour") {
+    summary <- hourly_weather(hourly, weather)
+    x <- interval_inputs(summary, by)
+  } else {
+    days <- weather_days(hourly, by, periods, weather)
+    summary <- summarise_epw(hourly, by, path = weather, periods = periods)
+    x <- weather_inputs(summary, !is.null(periods))
+  }
   fun <- function(params, x) {
     dir <- tempfile("eplus-run-")
     on.exit(unlink(dir, recursive = TRUE), add = TRUE)
     run <- run_model(apply_parameters(model, map, measures, params), weather, eplus, dir, timeout)
-    values <- lapply(output, function(o) aggregate_daily(eplus_output(run, o, key), days))
+    values <- lapply(output, function(o) {
+      if (by == "hour") hourly_values(eplus_output(run, o, key, by = "hour"), hourly) else
+        aggregate_daily(eplus_output(run, o, key), days)
+    })
     if (length(output) == 1L) values[[1]] else
       as.data.frame(stats::setNames(values, output), check.names = FALSE)
   }

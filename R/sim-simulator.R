@@ -225,9 +225,8 @@ bem_hourly_simulator <- function(path, parameters, building, output, by) {
   day <- cumsum(c(TRUE, diff(as.numeric(hourly$date)) != 0))
   period <- switch(by, hour = seq_len(nrow(hourly)), day = day, week = (day - 1L) %/% 7L + 1L)
   weather <- if (by == "hour") hourly else epw_weather(path, by = by)
-  x <- weather_inputs(weather, FALSE)
-  if (by != "week") x$weekday <- if (by == "hour") hourly$weekday else hourly$weekday[!duplicated(period)]
-  if (by == "hour") x$hour <- hourly$hour
+  weather$weekday <- hourly$weekday[!duplicated(period)]
+  x <- interval_inputs(weather, by)
   fun <- function(params, x) {
     out <- bem_hourly(params, hourly, building)[output]
     if (by == "hour") out else as.data.frame(lapply(out, function(v) as.vector(tapply(v, period, sum))))
@@ -236,6 +235,15 @@ bem_hourly_simulator <- function(path, parameters, building, output, by) {
             name = sprintf("embedded hourly building model by %s, %s (kWh)", by,
                            paste(output, collapse = " and ")),
             key = list(hourly, building, output, by), periods = weather_periods(weather))
+}
+
+# The inputs of a simulator by week, day or hour: the periods' mean
+# weather, by day also the weekday, by hour the weekday and the hour.
+interval_inputs <- function(weather, by) {
+  x <- weather_inputs(weather, FALSE)
+  if (by %in% c("day", "hour")) x$weekday <- weather$weekday
+  if (by == "hour") x$hour <- weather$hour
+  x
 }
 
 # A simulator function of the meters `output`: the vector of one, the data

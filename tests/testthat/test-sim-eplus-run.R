@@ -81,7 +81,7 @@ test_that("measured weather of a leap year is simulated on every day it holds", 
   skip_if_no_eplus()
   epw <- shipped_epw(2012)  # 8784 hours under a header that says there is no leap day
   expect_match(readLines(epw, n = 5)[5], "^HOLIDAYS/DAYLIGHT SAVINGS,No,")
-  run <- eplus_run(with_daily_output(seb_model(), "Electricity:Facility"), epw)
+  run <- eplus_run(with_output(seb_model(), "Electricity:Facility"), epw)
   daily <- eplus_output(run, "Electricity:Facility")
   expect_equal(nrow(daily), 366)
   expect_equal(sum(daily$month == 2), 29)
@@ -89,4 +89,26 @@ test_that("measured weather of a leap year is simulated on every day it holds", 
   runs <- simulate_design(sim, data.frame(equipment_power_density = 15))
   expect_equal(nrow(runs), 12)
   expect_length(attr(runs, "failed")$run, 0)
+  # a model dated 2013 runs on the 2012 weather in 2012, saying so
+  dated <- seb_model()
+  dated$json$RunPeriod[[1]]$begin_year <- 2013
+  dated$json$RunPeriod[[1]]$end_year <- 2013
+  expect_message(run <- eplus_run(with_output(dated, "Electricity:Facility"), epw),
+                 "dated 2013", class = "bayesbem_message_run_period")
+  expect_equal(eplus_output(run, "Electricity:Facility")$value, daily$value, tolerance = 1e-9)
+  expect_message(dated_sim <- eplus_simulator(dated, weather = epw),
+                 class = "bayesbem_message_run_period")
+  expect_equal(simulate_design(dated_sim, data.frame(equipment_power_density = 15))$eta,
+               runs$eta, tolerance = 1e-9)
+})
+
+test_that("EnergyPlus by hour: the hourly meter, each hour stamped by its end as the weather's", {
+  skip_if_no_eplus()
+  hourly <- simulate_design(seb_eplus(by = "hour"), data.frame(equipment_power_density = 15))
+  daily <- simulate_design(seb_eplus(by = "day"), data.frame(equipment_power_density = 15))
+  expect_equal(nrow(hourly), 8760)
+  expect_named(hourly[2:6], c("temp", "rh", "solar", "weekday", "hour"))
+  w <- epw_weather(shipped_epw(2013), by = "hour")
+  expect_equal(hourly$temp, w$temp)
+  expect_equal(as.vector(tapply(hourly$eta, w$date, sum)), daily$eta, tolerance = 1e-9)
 })
