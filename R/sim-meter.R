@@ -138,6 +138,10 @@ check_time_shift <- function(simulator, kept, y) {
     ok <- at >= 1L & at <= length(simulated)
     suppressWarnings(stats::cor(y[ok], simulated[at[ok]]))
   }, numeric(1))
+  # (constant use, or a constant simulator, correlates with nothing)
+  if (!all(is.finite(cors))) {
+    return(invisible())
+  }
   best <- which.max(cors)
   if (lags[best] != 0L && cors[best] > 0.5 && cors[best] > cors[lags == 0L] + 0.05) {
     warn_bayesbem(c("The meter's use follows the simulator's {abs(lags[best])} hour{?s} {if (lags[best] > 0) 'later' else 'earlier'} better than at the same hour (correlation {round(cors[best], 2)} against {round(cors[lags == 0L], 2)}).",

@@ -43,6 +43,8 @@ test_that("readings shifted by an hour are found, not absorbed", {
   time <- as.POSIXct("2013-07-01 01:00", tz = "America/Denver") + 3600 * (0:(24 * 14 - 1))
   y <- truth$use[hour_of(sim, time - 3600)]
   expect_no_warning(field_hours(sim, time, y, stamps = "end"))
+  # constant readings correlate with nothing: no verdict
+  expect_no_warning(field_hours(sim, time, rep(1, length(time)), stamps = "end"))
   expect_warning(field_hours(sim, time, y, stamps = "start"), "1 hour earlier",
                  class = "bayesbem_warning_time_shift")
   expect_warning(field_hours(sim, time - 3600, y, stamps = "end"), "1 hour later",

@@ -41,3 +41,9 @@ test_that("the savings vignette renders its held-out check, savings and avoided 
   expect_rendered("savings", 1, c("paired posterior draws", "fractional savings uncertainty",
                                   "held-out"))
 })
+
+test_that("the meter-data vignette renders bills on their own dates and hours of a meter", {
+  skip_on_cran()
+  expect_rendered("meter-data", 0, c("beta_delta[days]", "1 hour earlier",
+                                     "48 field rows", "starts before the period above it"))
+})
