@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs everything bayesbem needs on a bare Debian bookworm machine:
 # R and the prebuilt r-cran-* packages from Debian, an optimised BLAS
-# (OpenBLAS, serial: the chains already share the cores), then from CRAN only
+# (OpenBLAS, serial: the chains already share the cores), time zones (meter
+# data in local time), then from CRAN only
 # what Debian lacks. Needs root (or sudo). Safe to run again.
 set -euo pipefail
 SUDO=""
@@ -9,7 +10,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends \
-  r-base-dev libx11-6 pandoc \
+  r-base-dev libx11-6 pandoc tzdata \
   r-cran-rstan r-cran-rstantools r-cran-stanheaders r-cran-bh libboost-dev \
   r-cran-rcppeigen r-cran-rcppparallel r-cran-rcpp \
   r-cran-posterior r-cran-bayesplot r-cran-loo r-cran-ggplot2 \
