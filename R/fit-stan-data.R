@@ -142,16 +142,16 @@ stage2_stan_data <- function(data, priors, emulator) {
 }
 
 # The one-output data sets of a data set (one output's: itself), and their
-# stage-1 emulators in the same order: the two data classes dispatch here.
+# stage-1 emulators in the same order: several outputs' data dispatch here.
 output_data <- function(data) UseMethod("output_data")
 
-output_data.bayesbem_data <- function(data) list(data)
+output_data.default <- function(data) list(data)
 
 output_data.bayesbem_outputs <- function(data) data$outputs
 
 output_emulators <- function(data, emulator) UseMethod("output_emulators")
 
-output_emulators.bayesbem_data <- function(data, emulator) list(emulator)
+output_emulators.default <- function(data, emulator) list(emulator)
 
 output_emulators.bayesbem_outputs <- function(data, emulator) emulator
 

@@ -107,9 +107,9 @@ hourly_values <- function(values, hourly, call = rlang::caller_env()) {
 }
 
 # Daily values summed (energy) or averaged (rates, temperatures) over the
-# field periods: `days` gives each day of the weather (month, day) its
-# period, in order; the run period must report the same days.
-aggregate_daily <- function(daily, days, call = rlang::caller_env()) {
+# field periods: `days` are the weather's days (month, day) in order, which
+# the run period must report, and `members` the days of each period.
+aggregate_daily <- function(daily, days, members, call = rlang::caller_env()) {
   same <- nrow(daily) == nrow(days) && all(daily$month == days$month & daily$day == days$day)
   if (!same) {
     abort_bayesbem(c("EnergyPlus reported {nrow(daily)} day{?s}, but the weather has {nrow(days)}.",
@@ -117,6 +117,6 @@ aggregate_daily <- function(daily, days, call = rlang::caller_env()) {
                    "eplus_output", call = call)
   }
   combine <- if (identical(attr(daily, "type"), "Sum")) sum else mean
-  # days in no period (between bills) are left out
-  as.vector(tapply(daily$value, days$period, combine))
+  # days in no period (between bills) count in none
+  vapply(members, function(at) combine(daily$value[at]), numeric(1))
 }

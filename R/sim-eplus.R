@@ -56,8 +56,11 @@
 #'   [bem_simulator()]'s by hour).
 #' @param periods Instead of `by`, the measurements' own periods (e.g.
 #'   bills), a data frame with columns `start` and `end` (see
-#'   [epw_weather()]); the daily output is summed over each, and when they
-#'   differ in length their `days` is an observable input too.
+#'   [epw_weather()]), or for several meters read on other days a list of
+#'   such tables named by output (every meter is then simulated over all
+#'   the periods, and each output's field rows pick their own); the daily
+#'   output is summed over each, and when they differ in length their
+#'   `days` is an observable input too.
 #' @param timeout Time limit of each run, in seconds (whole seconds, rounded up).
 #' @param eplus Directory of EnergyPlus, see [eplus_path()].
 #' @return A `bayesbem_simulator`.
@@ -79,7 +82,8 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
                             eplus = NULL) {
   check_by_or_periods(by, periods)
   by <- match_choice(by)
-  if (!is.null(periods)) periods <- check_periods(periods)
+  check_eplus_outputs(output)
+  if (!is.null(periods)) periods <- check_output_periods(periods, output)
   eplus <- eplus_path(eplus)
   check_file(weather, "weather")
   check_number(timeout, "argument", positive = TRUE)
@@ -93,7 +97,6 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
                      i = "Add rows for {.field {unset}} to {.arg map}, or a measure."),
                    "parameters")
   }
-  check_eplus_outputs(output)
   frequency <- if (by == "hour") "Hourly" else "Daily"
   model <- with_sqlite(Reduce(function(m, o) with_output(m, o, frequency), output, model))
   for (end in c("min", "max")) {
@@ -106,8 +109,10 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
     summary <- hourly_weather(hourly, weather)
     x <- interval_inputs(summary, by)
   } else {
-    days <- weather_days(hourly, by, periods, weather)
-    summary <- summarise_epw(hourly, by, path = weather, periods = periods)
+    days <- weather_days(hourly, by)
+    members <- period_members(days, periods, weather)
+    summary <- if (is.null(periods)) summarise_epw(hourly, by, path = weather) else
+      periods_weather(hourly, periods, weather)
     x <- weather_inputs(summary, !is.null(periods))
   }
   fun <- function(params, x) {
@@ -116,14 +121,14 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
     run <- run_model(apply_parameters(model, map, measures, params), weather, eplus, dir, timeout)
     values <- lapply(output, function(o) {
       if (by == "hour") hourly_values(eplus_output(run, o, key, by = "hour"), hourly) else
-        aggregate_daily(eplus_output(run, o, key), days)
+        aggregate_daily(eplus_output(run, o, key), days, members)
     })
     if (length(output) == 1L) values[[1]] else
       as.data.frame(stats::setNames(values, output), check.names = FALSE)
   }
   name <- sprintf("EnergyPlus %s: %s, %s by %s", model$version, basename(model$source),
                   paste(output, collapse = " and "),
-                  if (is.null(periods)) by else sprintf("%d periods of the data", nrow(periods)))
+                  if (is.null(periods)) by else sprintf("%d periods of the data", nrow(union_periods(periods))))
   simulator(fun, x, parameters, name = name,
             key = list(unname(tools::md5sum(weather)), model_files_md5(model)),
             periods = weather_periods(summary))

@@ -100,3 +100,31 @@ period_of_days <- function(days, periods, path, call = rlang::caller_env()) {
   }
   period
 }
+
+# The measurements' periods as a list of checked tables: one table for
+# every output, or a list of tables named by output (each meter read on
+# its own days).
+check_output_periods <- function(periods, output, call = rlang::caller_env()) {
+  if (is.data.frame(periods)) {
+    return(list(check_periods(periods, call = call)))
+  }
+  if (!is.list(periods) || is.null(names(periods)) || !setequal(names(periods), output) ||
+      anyDuplicated(names(periods))) {
+    abort_bayesbem(c("{.arg periods} must be a table of periods, or a list of them named by output.",
+                     x = "It is {describe_value(periods)}{if (is.list(periods) && !is.null(names(periods))) paste0(' named ', paste(names(periods), collapse = ', ')) else ''}.",
+                     i = "The outputs are {.val {output}}; e.g. {.code list({output[1]} = bills, ...)}."),
+                   "periods", call = call)
+  }
+  lapply(stats::setNames(output, output), function(k) {
+    check_periods(periods[[k]], arg = sprintf("periods$%s", k), call = call)
+  })
+}
+
+# The distinct periods of several tables, by start then end: a simulator of
+# several meters read on other days runs every meter over all of them.
+union_periods <- function(tables) {
+  all <- unique(do.call(rbind, unname(tables)))
+  all <- all[order(all$start, all$end), , drop = FALSE]
+  rownames(all) <- NULL
+  all
+}

@@ -166,7 +166,10 @@ output_simulator <- function(simulator, output) {
 #'   `"week"`, `"day"`, `"hour"`: the hourly model ([bem_hourly()]) over
 #'   the whole file, summed into weeks or days or hour by hour.
 #' @param periods With `weather` an EPW file: the measurements' own periods,
-#'   a data frame with columns `start` and `end` (see [epw_weather()]).
+#'   a data frame with columns `start` and `end` (see [epw_weather()]), or
+#'   for several meters read on other days a list of such tables named by
+#'   output (every meter is then simulated over all the periods; each
+#'   output's field rows pick their own).
 #' @param parameters A parameter table (default [bem_parameters()]).
 #' @param building Building properties from [bem_building()].
 #' @param output `"electricity"`, `"gas"` (kWh per period) or both,
@@ -200,11 +203,13 @@ bem_simulator <- function(weather, parameters = bem_parameters(), building = bem
                      i = "The periods' weather is summarised from its hours."),
                    "argument")
   }
+  if (!is.null(periods)) periods <- check_output_periods(periods, output)
   if (by %in% c("week", "day", "hour")) {
     return(bem_hourly_simulator(weather, parameters, building, output, by))
   }
   if (is.character(weather)) {
-    weather <- if (is.null(periods)) epw_monthly(weather) else epw_weather(weather, periods = periods)
+    weather <- if (is.null(periods)) epw_monthly(weather) else
+      periods_weather(read_epw_hourly(weather), periods, weather)
   }
   x <- weather_inputs(weather, !is.null(periods))
   fun <- function(params, x) bem_monthly(params, weather, building)[output]

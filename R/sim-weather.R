@@ -157,16 +157,39 @@ record_periods <- function(hourly, day, by) {
 
 new_run <- function(v) cumsum(c(TRUE, v[-1] != v[-length(v)]))
 
-# Each day of an EPW file (year, month, day) with its period of `by`, or
-# its row of `periods` (NA when in none), in order.
-weather_days <- function(hourly, by, periods = NULL, path = NULL, call = rlang::caller_env()) {
+# Each day of an EPW file (year, month, day) with its period of `by`, in
+# order.
+weather_days <- function(hourly, by) {
   day <- record_days(hourly)
   first <- !duplicated(day)
-  days <- data.frame(year = hourly$year[first], month = hourly$month[first],
-                     day = hourly$day[first], period = record_periods(hourly, day, by)[first])
-  if (!is.null(periods)) days$period <- period_of_days(days, periods, path, call)
-  days
+  data.frame(year = hourly$year[first], month = hourly$month[first], day = hourly$day[first],
+             period = record_periods(hourly, day, by)[first])
 }
+
+# The days (rows of weather_days()) each period sums: those of `by`, or of
+# each of the union of the measurements' periods (check_output_periods()).
+period_members <- function(days, periods, path, call = rlang::caller_env()) {
+  if (is.null(periods)) {
+    return(unname(split(seq_len(nrow(days)), days$period)))
+  }
+  union <- union_periods(periods)
+  lapply(seq_len(nrow(union)), function(i) {
+    which(!is.na(period_of_days(days, union[i, , drop = FALSE], path, call)))
+  })
+}
+
+# The weather over each of the union's periods (epw_weather(periods = )
+# of each table, which may overlap one another).
+periods_weather <- function(hourly, tables, path, call = rlang::caller_env()) {
+  rows <- do.call(rbind, lapply(unname(tables), function(t) {
+    summarise_epw(hourly, "month", path = path, periods = t, call = call)
+  }))
+  union <- union_periods(tables)
+  out <- rows[match(paste(union$start, union$end), paste(rows$date, rows$end)), , drop = FALSE]
+  rownames(out) <- NULL
+  out
+}
+
 
 # The hourly records of an EPW file with missing-value codes set to NA.
 read_epw_hourly <- function(epw_path, call = rlang::caller_env()) {

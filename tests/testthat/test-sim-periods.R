@@ -127,3 +127,36 @@ test_that("bills on their own dates calibrate, the truth inside the posterior", 
     expect_lt(abs(z), 4, label = name)
   }
 })
+
+test_that("two meters read on other days: every meter over all periods, each output its own", {
+  skip_on_cran()
+  epw <- shipped_epw(2013)
+  elec <- data.frame(start = as.Date("2013-01-05") + 30 * (0:5))
+  elec$end <- elec$start + 29
+  gas <- data.frame(start = as.Date("2013-01-15") + 30 * (0:5))
+  gas$end <- gas$start + 29
+  sim <- bem_simulator(epw, output = c("electricity", "gas"),
+                       periods = list(electricity = elec, gas = gas))
+  expect_equal(nrow(sim$x), 12)
+  expect_equal(sim$periods$start, sort(c(elec$start, gas$start)))
+  # the weather of each period is its own table's
+  own <- epw_weather(epw, periods = gas)
+  at <- match(gas$start, sim$periods$start)
+  expect_equal(sim$x$temp[at], own$temp)
+  pars <- bem_parameters()
+  pars <- pars[pars$parameter %in% c("equipment_power_density", "infiltration_per_exterior_area"), ]
+  runs <- simulate_design(sim, design_lhs(pars, 12, seed = 1))
+  truth <- list(equipment_power_density = 15, infiltration_per_exterior_area = 8e-4)
+  field <- simulate_field(sim, truth, noise_sd = c(electricity = 20, gas = 20), seed = test_seed(2))
+  period <- rep(seq_len(12), 2)
+  mine <- (field$output == "electricity" & period %in% match(elec$start, sim$periods$start)) |
+    (field$output == "gas" & period %in% at)
+  fit <- suppressWarnings(calibrate(field[mine, ], runs, chains = 2, iter = 600, seed = test_seed(3)),
+                          classes = "bayesbem_warning_convergence")
+  expect_equal(vapply(fit$data$outputs, `[[`, integer(1), "n"), c(electricity = 6L, gas = 6L))
+  # a tool that reruns the simulator finds each output's periods in it
+  checks <- validate_emulator(fit, sim, ndraws = 2)
+  expect_equal(nrow(checks$gas$table), 2 * 6)
+  expect_error(bem_simulator(epw, output = c("electricity", "gas"), periods = list(gas = gas)),
+               class = "bayesbem_error_periods")
+})
