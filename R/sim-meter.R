@@ -149,3 +149,53 @@ check_time_shift <- function(simulator, kept, y) {
                   "time_shift")
   }
 }
+
+#' Calendar covariates of a simulator's periods
+#'
+#' What the weather does not say about a period: for hours, the `hour` of
+#' the day, whether it falls on a `weekend` and on a `holiday`; for days
+#' and longer periods (bills), the share of their days that are weekend
+#' days and holidays. Give them as discrepancy candidates
+#' (`explain_discrepancy(covariates = )`, `extend()`), or, for hours and
+#' days, bind them to the field table as observable inputs.
+#'
+#' @param simulator A `bayesbem_simulator` with `periods` (the
+#'   weather-driven simulators).
+#' @param holidays `Date`s of holidays (e.g. the local public holidays of
+#'   the years simulated); `NULL` for none.
+#' @return A data frame, one row per period of the simulator: `hour` (for
+#'   hours only), `weekend` and `holiday` (0/1 for hours and days, shares
+#'   of days for longer periods).
+#' @family simulation
+#' @export
+#' @examples
+#' epw <- system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")
+#' new_year <- as.Date(c("2013-01-01", "2013-12-25"))
+#' head(calendar_covariates(bem_simulator(epw), holidays = new_year))
+#' calendar_covariates(bem_simulator(epw, by = "hour"), holidays = new_year)[1:3, ]
+calendar_covariates <- function(simulator, holidays = NULL) {
+  check_simulator(simulator)
+  periods <- simulator$periods
+  if (is.null(periods)) {
+    abort_bayesbem(c("{.arg simulator} has no dated periods.",
+                     i = "Make it from weather: {.fn bem_simulator} or {.fn eplus_simulator}."),
+                   "argument")
+  }
+  if (!is.null(holidays) && (!inherits(holidays, "Date") || anyNA(holidays))) {
+    abort_bayesbem("{.arg holidays} must be {.cls Date}s, not {describe_value(holidays)}.",
+                   "argument")
+  }
+  if (inherits(periods$start, "POSIXct")) {
+    # the hour's calendar day and time in the weather's own (standard) time
+    zone <- attr(periods$start, "tzone") %||% ""
+    day <- as.Date(format(periods$start, "%Y-%m-%d", tz = zone))
+    return(data.frame(hour = as.integer(format(periods$start, "%H", tz = zone)),
+                      weekend = as.integer(format(day, "%u") %in% c("6", "7")),
+                      holiday = as.integer(day %in% holidays)))
+  }
+  shares <- t(vapply(seq_len(nrow(periods)), function(i) {
+    days <- seq(periods$start[i], periods$end[i], by = "day")
+    c(weekend = mean(format(days, "%u") %in% c("6", "7")), holiday = mean(days %in% holidays))
+  }, numeric(2)))
+  as.data.frame(shares)
+}

@@ -12,6 +12,7 @@
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-bill-dates.R [problems]   (default 20)
 suppressPackageStartupMessages(library(bayesbem))
+options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
 problems <- seq_len(if (length(args) > 0L) as.integer(args[1]) else 20L)
 epw <- system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")
@@ -58,7 +59,7 @@ rows <- lapply(problems, function(k) {
                                classes = "bayesbem_warning_convergence")
   # the same bills as calendar months: the month holding most of each
   # period's days (two bills on one month: the first kept)
-  mid <- bills$start + (bills$end - bills$start) %/% 2
+  mid <- bills$start + as.integer(bills$end - bills$start) %/% 2L
   month <- as.integer(format(mid, "%m"))
   keep <- !duplicated(month)
   field_month <- data.frame(y = y[keep], monthly$x[month[keep], ])

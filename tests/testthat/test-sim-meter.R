@@ -93,3 +93,26 @@ test_that("hours of meter data calibrate, the truth inside the posterior", {
     expect_lt(abs(z), 4, label = name)
   }
 })
+
+test_that("calendar covariates: hour, weekend and holidays of each period", {
+  epw <- shipped_epw(2013)
+  christmas <- as.Date("2013-12-25")
+  hours <- calendar_covariates(bem_simulator(epw, by = "hour"), holidays = christmas)
+  expect_equal(nrow(hours), 8760)
+  expect_equal(hours$hour[1:25], c(0:23, 0))
+  # 5 January 2013 was a Saturday; Christmas's 24 hours are the holiday's
+  expect_equal(hours$weekend[24 * 4 + 1], 1)
+  expect_equal(hours$weekend[24 * 3 + 1], 0)
+  expect_equal(sum(hours$holiday), 24)
+  months <- calendar_covariates(bem_simulator(epw), holidays = christmas)
+  # January 2013 held 8 weekend days of 31
+  expect_equal(months$weekend[1], 8 / 31)
+  expect_equal(months$holiday, c(rep(0, 11), 1 / 31))
+  bills <- data.frame(start = as.Date("2013-01-05"), end = as.Date("2013-01-11"))
+  expect_equal(calendar_covariates(bem_simulator(epw, periods = bills))$weekend, 2 / 7)
+  lin <- simulator(function(params, x) x$a * params$k, data.frame(a = 1:3),
+                   data.frame(parameter = "k", initial = 1, min = 0, max = 2))
+  expect_error(calendar_covariates(lin), class = "bayesbem_error_argument")
+  expect_error(calendar_covariates(bem_simulator(epw), holidays = "2013-12-25"),
+               class = "bayesbem_error_argument")
+})
