@@ -1,4 +1,4 @@
-#' Weather by month, week, day or the data's own periods from an EPW file
+#' Weather by month, week, day, hour or the data's own periods from an EPW file
 #'
 #' Reads the hourly records of an EPW file (plain or gzip-compressed) and
 #' returns, for each period, the means of the quantities that drive a
