@@ -158,3 +158,11 @@ print.bayesbem_outputs <- function(x, ...) {
             scale_lines(t_scales(x$scaling)))
   invisible(x)
 }
+
+# A long table of a data set of several outputs, koh_data()'s form: each
+# output's `rows(one, k)` (of its data and name) under the output column.
+outputs_long_table <- function(data, rows = function(one, k) field_table(one)) {
+  do.call(rbind, lapply(names(data$outputs), function(k) {
+    cbind(stats::setNames(data.frame(k), data$output), rows(data$outputs[[k]], k))
+  }))
+}

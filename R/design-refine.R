@@ -114,34 +114,26 @@ check_outcome <- function(check) {
 # fit's scale.
 refined_data <- function(fit, added, call = rlang::caller_env()) {
   data <- fit$data
-  if (!is_several(fit)) {
+  column <- if (is_several(fit)) data$output
+  if (is.null(column)) {
+    field <- field_table(data)
     runs <- rbind(data$sim, refinement_runs(data, added, call))
-    names <- data$names
-    return(koh_data(field_table(data), runs, y = names$y, eta = names$eta, t = names$t,
-                    period = names$period, scales = t_scales(data$scaling)))
+  } else {
+    outputs <- names(data$outputs)
+    if (!"output" %in% names(added) || !all(outputs %in% added$output)) {
+      abort_bayesbem(c("The simulator's runs lack some of the fit's outputs, {.val {outputs}}.",
+                       i = "Use the simulator whose runs the fit was calibrated on: one that gives every output."),
+                     "simulator", call = call)
+    }
+    field <- outputs_long_table(data)
+    runs <- outputs_long_table(data, function(one, k) {
+      own <- added[added$output == k, setdiff(names(added), "output"), drop = FALSE]
+      rbind(one$sim, refinement_runs(one, own, call))
+    })
   }
-  column <- data$output
-  outputs <- names(data$outputs)
-  if (!"output" %in% names(added) || !all(outputs %in% added$output)) {
-    abort_bayesbem(c("The simulator's runs lack some of the fit's outputs, {.val {outputs}}.",
-                     i = "Use the simulator whose runs the fit was calibrated on: one that gives every output."),
-                   "simulator", call = call)
-  }
-  long <- function(side) {
-    do.call(rbind, lapply(outputs, function(k) {
-      one <- data$outputs[[k]]
-      rows <- if (side == "field") {
-        field_table(one)
-      } else {
-        own <- added[added$output == k, setdiff(names(added), "output"), drop = FALSE]
-        rbind(one$sim, refinement_runs(one, own, call))
-      }
-      cbind(stats::setNames(data.frame(k), column), rows)
-    }))
-  }
-  names <- data$outputs[[1]]$names
-  koh_data(long("field"), long("sim"), y = names$y, eta = names$eta, t = names$t,
-           period = names$period, scales = t_scales(data$scaling), output = column)
+  names <- output_data(data)[[1]]$names
+  koh_data(field, runs, y = names$y, eta = names$eta, t = names$t, period = names$period,
+           scales = t_scales(data$scaling), output = column)
 }
 
 # The added runs in the columns of the fit's runs, at the fit's simulation

@@ -80,9 +80,7 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, output = NUL
 extend_outputs <- function(fit, with, covariates, sim, output, ..., call = rlang::caller_env()) {
   terms <- fit_covariates(fit)
   if (!is.null(sim)) {
-    field <- do.call(rbind, lapply(names(fit$data$outputs), function(k) {
-      cbind(stats::setNames(data.frame(k), fit$data$output), field_table(fit$data$outputs[[k]]))
-    }))
+    field <- outputs_long_table(fit$data)
     scales <- t_scales(fit$data$scaling)
     data <- koh_data(field, sim, output = fit$data$output,
                      scales = scales[intersect(names(scales), names(sim))])

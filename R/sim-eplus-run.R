@@ -50,8 +50,7 @@ eplus_run <- function(model, weather, dir = NULL, timeout = 600, eplus = NULL) {
 # the weather's years, with a message; undated periods are left as the
 # model has them (its start weekday).
 weather_run_years <- function(model, hourly) {
-  dates <- as.Date(sprintf("%04d-%02d-%02d", hourly$year, hourly$month, hourly$day))
-  if (is.null(model$json$RunPeriod) || !all(diff(as.numeric(unique(dates))) == 1)) {
+  if (is.null(model$json$RunPeriod) || !actual_weather(record_dates(hourly))) {
     return(model)
   }
   years <- hourly$year[c(1, nrow(hourly))]

@@ -129,8 +129,7 @@ check_readings <- function(time, y, call = rlang::caller_env()) {
 # hours earlier or later (of lags -2 to 2, by more than 0.05 and with the
 # best correlation above 0.5).
 check_time_shift <- function(simulator, kept, y) {
-  initial <- stats::setNames(as.list(simulator$parameters$initial), simulator$parameters$parameter)
-  simulated <- simulator$fun(initial, simulator$x)
+  simulated <- simulator$fun(initial_values(simulator$parameters), simulator$x)
   if (is.data.frame(simulated)) simulated <- simulated[[1]]
   lags <- -2:2
   cors <- vapply(lags, function(lag) {

@@ -64,6 +64,14 @@ as_days <- function(v, col, arg, call) {
   days
 }
 
+# The calendar dates of weather records or days (columns `year`, `month`,
+# `day`).
+record_dates <- function(d) as.Date(sprintf("%04d-%02d-%02d", d$year, d$month, d$day))
+
+# Whether dates are those of actual weather (their days consecutive), not a
+# typical year's (months from different years).
+actual_weather <- function(dates) all(diff(as.numeric(unique(dates))) == 1)
+
 # The period of each day of a weather file (`days`: its days in order, with
 # `year`, `month` and `day`): the row of `periods` holding it, NA for days
 # in none. A file of actual weather (consecutive dates) is matched by date;
@@ -72,8 +80,8 @@ as_days <- function(v, col, arg, call) {
 # of two years must not fall on the same days of it. A period with a day
 # the file lacks is an error naming its rows.
 period_of_days <- function(days, periods, path, call = rlang::caller_env()) {
-  dates <- as.Date(sprintf("%04d-%02d-%02d", days$year, days$month, days$day))
-  actual <- all(diff(as.numeric(dates)) == 1)
+  dates <- record_dates(days)
+  actual <- actual_weather(dates)
   key <- function(d) if (actual) format(d, "%Y-%m-%d") else sub("02-29$", "02-28", format(d, "%m-%d"))
   day_keys <- key(dates)
   period <- rep(NA_integer_, length(dates))

@@ -224,13 +224,16 @@ bem_simulator <- function(weather, parameters = bem_parameters(), building = bem
 # weather and, by day, the weekday, by hour the hour and the weekday (the
 # schedules act by hour of week).
 bem_hourly_simulator <- function(path, parameters, building, output, by) {
-  hourly <- epw_weather(path, by = "hour")
-  # days and weeks as epw_weather() counts them: days in record order,
-  # weeks seven days from the first
-  day <- cumsum(c(TRUE, diff(as.numeric(hourly$date)) != 0))
-  period <- switch(by, hour = seq_len(nrow(hourly)), day = day, week = (day - 1L) %/% 7L + 1L)
-  weather <- if (by == "hour") hourly else epw_weather(path, by = by)
-  weather$weekday <- hourly$weekday[!duplicated(period)]
+  records <- read_epw_hourly(path)
+  hourly <- hourly_weather(records, path)
+  if (by == "hour") {
+    period <- seq_len(nrow(records))
+    weather <- hourly
+  } else {
+    period <- record_periods(records, record_days(records), by)
+    weather <- summarise_epw(records, by, path = path)
+    weather$weekday <- hourly$weekday[!duplicated(period)]
+  }
   x <- interval_inputs(weather, by)
   fun <- function(params, x) {
     out <- bem_hourly(params, hourly, building)[output]
@@ -289,6 +292,11 @@ check_parameter_table <- function(parameters, arg = rlang::caller_arg(parameters
   parameters
 }
 
+# Every parameter of a parameter table at its initial value, by name.
+initial_values <- function(parameters) {
+  stats::setNames(as.list(parameters$initial), parameters$parameter)
+}
+
 # Full parameter lists for each row of `design`: the design's values, and the
 # initial value of every parameter the design does not vary.
 design_settings <- function(sim, design, call = rlang::caller_env()) {
@@ -310,7 +318,7 @@ design_settings <- function(sim, design, call = rlang::caller_env()) {
                      i = "Keep each parameter within its {.field min} and {.field max}."),
                    "parameters", call = call)
   }
-  base <- stats::setNames(as.list(table$initial), table$parameter)
+  base <- initial_values(table)
   lapply(seq_len(nrow(design)), function(i) utils::modifyList(base, as.list(design[i, , drop = FALSE])))
 }
 

@@ -105,9 +105,7 @@ summarise_epw <- function(hourly, by, base_heating = 18.3, base_cooling = 18.3, 
   ids <- sort(unique(period))
   first <- match(ids, period)
   last <- length(period) + 1L - match(ids, rev(period))
-  date_of <- function(at) {
-    as.Date(sprintf("%04d-%02d-%02d", hourly$year[at], hourly$month[at], hourly$day[at]))
-  }
+  date_of <- function(at) record_dates(hourly[at, , drop = FALSE])
   mean_by <- function(v) as.vector(tapply(v, period, mean, na.rm = TRUE))
   out <- data.frame(
     date = if (is.null(periods)) date_of(first) else periods$start,
@@ -238,9 +236,8 @@ weekday_names <- c("Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Satu
 # (consecutive dates) by the calendar, a typical year from the weekday its
 # DATA PERIODS line gives the first day, as EnergyPlus counts them.
 record_weekdays <- function(hourly, day = record_days(hourly)) {
-  dates <- as.Date(sprintf("%04d-%02d-%02d", hourly$year, hourly$month, hourly$day))
-  first <- !duplicated(day)
-  if (all(diff(as.numeric(dates[first])) == 1)) {
+  dates <- record_dates(hourly)
+  if (actual_weather(dates)) {
     return(as.integer(format(dates, "%u")))
   }
   start <- attr(hourly, "first_weekday")
@@ -266,7 +263,7 @@ hourly_weather <- function(hourly, path, base_heating = 18.3, base_cooling = 18.
   } else {
     "UTC"
   }
-  dates <- as.Date(sprintf("%04d-%02d-%02d", hourly$year, hourly$month, hourly$day))
+  dates <- record_dates(hourly)
   start <- as.POSIXct(paste(format(dates), sprintf("%02d:00:00", hourly$hour - 1L)), tz = zone)
   data.frame(time = start, date = dates, end = dates, month = hourly$month,
              hour = hourly$hour - 1L, weekday = record_weekdays(hourly),

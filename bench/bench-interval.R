@@ -8,8 +8,8 @@
 # daylight-saving time on the 10th); 15 runs, the runs' rows at the
 # meter's hours; calibrate()'s defaults. Reported: the 90 % intervals
 # holding the truth, convergence, the fit's wall time (stage 1, the
-# emulator's mode, grows as the cube of the hours: two weeks took over 5
-# minutes before stage 2 began).
+# emulator's mode, grows as the cube of the hours, hence a week by
+# default: bench/RESULTS.md, "Smart-meter data").
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-interval.R [problems] [embedded|eplus]  (default 3 embedded)
 #   eplus needs BAYESBEM_EPLUS; BENCH_CACHE: a directory for cached runs.
