@@ -53,6 +53,16 @@
 #' package's benchmarks (`bench/RESULTS.md`, "Reliability").
 #' `scales = "identity"` is the paper's model.
 #'
+#' @section Noise of periods of different lengths: The observation noise
+#'   is independent between rows, with variance `1 / lambda_e` (the paper's
+#'   model). When the rows are periods of different lengths, an input
+#'   `days` (as [bem_simulator()] and [eplus_simulator()] give it with the
+#'   measurements' own `periods`), a period's total sums its days' errors,
+#'   and each row's variance is `w_i / lambda_e` with `w_i = days_i /
+#'   mean(days)` over the field rows: `1 / lambda_e` is then the noise of a
+#'   period of the mean length, a 34-day bill's is `34 / 30.4` times as
+#'   large as a 30.4-day bill's, and predictions of new periods with
+#'   `noise = TRUE` weigh theirs the same way.
 #' @section Several outputs: Field data and runs of several outputs (meters:
 #'   electricity and gas bills, say) come as long tables with a column
 #'   naming each row's output, `output` by default. Each output then gets a
@@ -98,7 +108,8 @@
 #'   have it, else there is one output.
 #' @return An object of class `bayesbem_data`: the scaled matrices `y`, `eta`,
 #'   `xf`, `xc`, `tc`, the column names, the sizes `n`, `m`, `p`, `q`, the
-#'   `scaling` constants, and `grid`: the layout of the runs when every run
+#'   `scaling` constants (with `days`, the field's mean period length, when
+#'   the noise grows with it), and `grid`: the layout of the runs when every run
 #'   was made at every field input, and possibly at further inputs such as
 #'   those of held-out periods (`NULL` otherwise), which lets [calibrate()]
 #'   use the fast Kronecker likelihood. With several outputs, an object of

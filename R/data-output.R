@@ -34,7 +34,8 @@ koh_data_one <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, p
     y_center = mean(eta_raw),
     y_scale = stats::sd(eta_raw),
     x_min = apply(rbind(xf_raw, xc_raw), 2, min),
-    x_max = apply(rbind(xf_raw, xc_raw), 2, max)
+    x_max = apply(rbind(xf_raw, xc_raw), 2, max),
+    days = noise_reference(xf_raw)
   )
   check_varies(scaling$y_scale, cols$eta, "sim", call = call)
   check_units(field[[cols$y]], eta_raw, cols, xf_raw, xc_raw, call = call)
@@ -81,6 +82,9 @@ print.bayesbem_data <- function(x, ...) {
             "* {x$p} observable input{?s} x: {.field {x$names$x}}",
             "* {x$q} calibration parameter{?s} t: {.field {x$names$t}}",
             scale_lines(t_scales(x$scaling)),
+            if (!is.null(x$scaling$days)) {
+              "* noise variance proportional to each period's {.field days} (mean {signif(x$scaling$days, 3)})"
+            },
             if (!is.null(x$names$period)) {
               "* rows dated by {.field {x$names$period}}: {period_labels(x)[1]} to {period_labels(x)[x$n]}"
             },

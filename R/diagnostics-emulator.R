@@ -184,7 +184,7 @@ emulator_shift <- function(g, par, s) {
   a <- solve(crossprod(wj))
   u <- backsolve(r, wj) %*% a
   s_e <- fm$cov - delta_cov(g$ff, par)
-  diag(s_e) <- diag(s_e) - 1 / par$lambda_e
+  diag(s_e) <- diag(s_e) - noise_var(g, par)
   list(shift = drop(a %*% crossprod(wj, we)), sd = sqrt(pmax(diag(crossprod(u, s_e %*% u)), 0)))
 }
 

@@ -10,7 +10,7 @@
 residual_given_runs <- function(g, par) {
   rg <- residual_geometry(g, par)
   fm <- field_given_runs(rg, par)
-  noise <- 1 / par$lambda_e
+  noise <- noise_var(g, par)
   emulator <- fm$cov - delta_cov(g$ff, par)
   diag(emulator) <- diag(emulator) - noise
   list(residual = field_y(rg, par) - fm$mean, emulator = emulator, noise = noise)

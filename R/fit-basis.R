@@ -98,11 +98,11 @@ basis_eta <- function(basis, tf) {
 # The field outputs given the runs under the basis emulator, for one draw
 # (runs_field() of a basis fit): mean mu + B w(tf) (the emulator's; the
 # discrepancy terms h' gamma are the caller's, as for field_given_runs()),
-# covariance B diag(v(tf)) B' + Sigma_delta + (s2r + 1 / lambda_e) I.
+# covariance B diag(v(tf)) B' + Sigma_delta + s2r I + diag(noise) / lambda_e.
 basis_field <- function(g, par) {
   basis <- g$basis
   eta <- basis_eta(basis, par$tf)
   cov <- basis$B %*% (eta$var * t(basis$B)) + delta_cov(g$ff, par)
-  diag(cov) <- diag(cov) + basis$s2r + 1 / par$lambda_e
+  diag(cov) <- diag(cov) + basis$s2r + noise_var(g, par)
   list(mean = eta$mean, cov = cov)
 }

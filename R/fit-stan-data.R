@@ -12,14 +12,17 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
     grid <- data$grid
     return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = data$q, y = data$y,
                   eta = grid_runs(data), x_grid = grid$x,
-                  tc = grid$design, lapack = as.integer(use_lapack(call))),
+                  tc = grid$design, lapack = as.integer(use_lapack(call)),
+                  noise_weight = as.array(noise_weights(data))),
              prior_data))
   }
+  if (is.null(x_pred)) x_pred <- matrix(0, 0, data$p, dimnames = list(NULL, data$names$x))
   c(list(n = data$n, m = data$m, p = data$p, q = data$q,
          y = data$y, eta = data$eta, xf = data$xf, xc = data$xc, tc = data$tc),
     prior_data,
-    list(n_pred = NROW(x_pred),
-         x_pred = if (is.null(x_pred)) matrix(0, 0, data$p) else x_pred))
+    list(n_pred = nrow(x_pred), x_pred = x_pred,
+         noise_weight = as.array(c(noise_weights(data),
+                                   noise_weights(data, unscale_x(x_pred, data$scaling))))))
 }
 
 # The part of every program's data block that koh_prior_data.stan declares:
@@ -134,6 +137,7 @@ stage2_stan_data <- function(data, priors, emulator) {
          xf = do.call(rbind, lapply(outputs, function(d) d$grid$x[seq_len(d$n), , drop = FALSE])),
          tc = first$grid$design, K = length(outputs),
          output = as.array(rep(seq_along(outputs), vapply(outputs, `[[`, integer(1), "n"))),
+         noise_weight = as.array(unlist(lapply(outputs, noise_weights))),
          lapack = as.integer(use_lapack())),
     prior,
     list(beta_eta_fixed = emulator_columns(emulators, "beta_eta"),

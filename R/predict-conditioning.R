@@ -9,11 +9,12 @@
 # simulation rows) and "tt" (t of simulation rows); for the grid structure,
 # "xx" and "sx" (grid inputs, field inputs first), "tt" over the runs and the
 # output matrix `E` (grid input by run). `basis`: a fit's basis emulator
-# (basis_emulator()), which runs_field() then reads.
+# (basis_emulator()), which runs_field() then reads. `noise`: the field
+# rows' noise weights (noise_weights()).
 gp_geometry <- function(data, x_new = NULL, structure = "dense", basis = NULL) {
   g <- list(structure = structure, n = data$n, m = data$m, p = data$p, y = data$y,
             h = discrepancy_design(data), ff = pair_geometry(data$xf, data$xf),
-            xf = data$xf, x_new = x_new, basis = basis)
+            xf = data$xf, x_new = x_new, basis = basis, noise = noise_weights(data))
   if (structure == "grid") {
     grid <- data$grid
     g$tc <- grid$design
@@ -86,12 +87,15 @@ eta_cov <- function(pair, dg, par, to_design = FALSE) {
 # with the jitter of koh_cov()).
 koh_sigma_z <- function(g, par, dg = draw_geometry(g, par)) {
   s_ff <- eta_cov(g$ff, dg, par) + delta_cov(g$ff, par)
-  diag(s_ff) <- diag(s_ff) + 1 / par$lambda_e
+  diag(s_ff) <- diag(s_ff) + noise_var(g, par)
   s_fc <- eta_cov(g$fc, dg, par, to_design = TRUE)
   s_cc <- jittered_cor(g$cc, dg$bx, par$nugget) * jittered_cor(g$tt, dg$bt, par$nugget) /
     par$lambda_eta
   rbind(cbind(s_ff, s_fc), cbind(t(s_fc), s_cc))
 }
+
+# Each field row's noise variance for one draw, w_i / lambda_e (R/data-noise.R).
+noise_var <- function(g, par) g$noise / par$lambda_e
 
 # The field outputs less the draw's parametric discrepancy terms h' gamma,
 # which is what the Gaussian processes model.
@@ -153,7 +157,7 @@ new_rows_cov <- function(g, dg, par) {
 # given eta is normal with this `mean` and covariance `cov` (emulator,
 # discrepancy and noise). On a grid design, with w = Kt^-1 k0, s = k0' w and
 # a the nugget: mean E w and covariance c Kx / lambda_eta + Sigma_delta +
-# I / lambda_e, c = 1 + a - s (never forming Sigma_z); otherwise from the
+# diag(noise) / lambda_e, c = 1 + a - s (never forming Sigma_z); otherwise from the
 # blocks of Sigma_z. Also returns the pieces the grid conditional reuses.
 field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
   if (g$structure == "grid") {
@@ -164,7 +168,7 @@ field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
     c_t <- 1 + par$nugget - s
     f <- seq_len(g$n)
     cov <- c_t * kx[f, f] / par$lambda_eta + delta_cov(g$ff, par)
-    diag(cov) <- diag(cov) + 1 / par$lambda_e
+    diag(cov) <- diag(cov) + noise_var(g, par)
     mean_x <- drop(g$E %*% backsolve(r_t, v))
     return(list(mean = mean_x[f], cov = cov, kx = kx, mean_x = mean_x, s = s, c = c_t))
   }

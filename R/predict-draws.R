@@ -23,8 +23,7 @@ predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE) {
   }
   y <- eta + delta
   if (noise) {
-    sd_e <- 1 / sqrt(vapply(pars, `[[`, numeric(1), "lambda_e"))
-    y <- y + matrix(stats::rnorm(length(y), sd = sd_e), nrow(y))
+    y <- y + noise_matrix(pars, noise_weights(data, newdata))
   }
   s <- data$scaling
   list(y = unscale_y(y, s), eta = unscale_y(eta, s), delta = unscale_y_spread(delta, s),

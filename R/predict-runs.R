@@ -174,8 +174,15 @@ delta_given_eta <- function(cond, s) {
               cond$cov[d, d, drop = FALSE] - crossprod(k))
 }
 
-# Observation noise N(0, 1/lambda_e) of each draw, physical units.
-noise_draws <- function(fit, draws, n) {
-  sd_e <- fit$data$scaling$y_scale / sqrt(vapply(draws, `[[`, numeric(1), "lambda_e"))
-  matrix(stats::rnorm(length(draws) * n, sd = sd_e), length(draws), n)
+# Observation noise N(0, w_i / lambda_e) of each draw (rows) at each period
+# of a table of inputs (columns), physical units.
+noise_draws <- function(fit, draws, x) {
+  fit$data$scaling$y_scale * noise_matrix(draws, noise_weights(fit$data, x))
+}
+
+# Observation noise N(0, w_i / lambda_e), standardised: draws (rows) by
+# periods of weights `w` (columns).
+noise_matrix <- function(draws, w) {
+  sd_e <- 1 / sqrt(vapply(draws, `[[`, numeric(1), "lambda_e"))
+  matrix(stats::rnorm(length(draws) * length(w)), length(draws)) * outer(sd_e, sqrt(w))
 }

@@ -92,7 +92,7 @@ predict_scenario <- function(fit, scenario, ndraws = 40,
     if (discrepancy == "proportional") delta * simulated / calibrated else delta
   }
   y <- simulated + delta
-  if (noise) y <- y + noise_draws(fit, runs$draws, ncol(y))
+  if (noise) y <- y + noise_draws(fit, runs$draws, scenario$simulator$x)
   structure(list(y = y, simulated = simulated, delta = delta, inputs = scenario$simulator$x,
                  draw = runs$index, scenario = scenario, discrepancy = discrepancy,
                  noise = noise),

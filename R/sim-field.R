@@ -22,7 +22,9 @@
 #' @param noise_sd Standard deviation of the Gaussian measurement noise; for
 #'   a simulator of several outputs, one number for all or a named vector
 #'   with one per output (in each output's units; an output not named gets
-#'   none).
+#'   none). Periods of different lengths (an input `days`) get the noise
+#'   [koh_data()] assumes: `noise_sd` is that of a period of the mean
+#'   length, and the variance of each is proportional to its days.
 #' @param seed Random seed of the noise.
 #' @return A data frame `[y, x, covariates]` in the layout [calibrate()]
 #'   takes, with attributes `truth` (all parameter values), `simulated` (the
@@ -62,7 +64,7 @@ simulate_field <- function(simulator, truth, covariates = NULL, effect = NULL, n
   }
   check_number(noise_sd, "argument")
   hidden <- hidden_effect(effect, inputs)
-  noise <- with_seed(seed, stats::rnorm(nrow(x), sd = noise_sd))
+  noise <- with_seed(seed, stats::rnorm(nrow(x), sd = noise_sd * sqrt(period_weights(x))))
   structure(data.frame(y = simulated + hidden + noise, inputs, row.names = NULL),
             truth = params, simulated = simulated, effect = hidden)
 }
@@ -93,7 +95,8 @@ field_outputs <- function(simulated, inputs, params, effect, noise_sd, seed,
     noise_sd <- stats::setNames(rep(noise_sd, length(outputs)), outputs)
   }
   noise <- with_seed(seed, lapply(outputs, function(k) {
-    stats::rnorm(nrow(inputs), sd = if (k %in% names(noise_sd)) noise_sd[[k]] else 0)
+    sd <- if (k %in% names(noise_sd)) noise_sd[[k]] else 0
+    stats::rnorm(nrow(inputs), sd = sd * sqrt(period_weights(inputs)))
   }))
   rows <- lapply(seq_along(outputs), function(j) {
     k <- outputs[j]

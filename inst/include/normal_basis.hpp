@@ -9,7 +9,7 @@
 namespace bayesbem_cpp {
 
 /* Log density of r ~ N(0, Sigma) with
- *   Sigma = B diag(v) B' + S + d I,
+ *   Sigma = B diag(v) B' + S + diag(d),
  * B the basis (data), v the components' variances, S the squared-
  * exponential kernel of the rows of x (the discrepancy). As
  * normal_two_kernels() with a K = B diag(v) B' that is data, plus the
@@ -20,12 +20,13 @@ namespace bayesbem_cpp {
 template <typename TR, typename TV, typename TX, typename TB, typename TL, typename TJ>
 typename stan::return_type<TR, TV, TB, TL, TJ>::type normal_basis(
     const TR& r_in, const Eigen::MatrixXd& B, const TV& v_in, const TX& x_in,
-    const TB& beta_in, const TL& lambda, const TJ& d, bool lapack) {
+    const TB& beta_in, const TL& lambda, const TJ& d_in, bool lapack) {
   using stan::math::value_of;
   typedef typename stan::return_type<TR, TV, TB, TL, TJ>::type result_t;
   const Eigen::Matrix<typename TR::Scalar, Eigen::Dynamic, 1>& r = r_in;
   const Eigen::Matrix<typename TV::Scalar, Eigen::Dynamic, 1>& v = v_in;
   const Eigen::Matrix<typename TB::Scalar, Eigen::Dynamic, 1>& beta = beta_in;
+  const Eigen::Matrix<typename TJ::Scalar, Eigen::Dynamic, 1>& d = d_in;
   const Eigen::MatrixXd& x = value_of(x_in);
   const Eigen::Index n = r.size();
   stan::math::check_size_match("normal_basis_lpdf", "rows of B", B.rows(), "size of r", n);
@@ -34,6 +35,7 @@ typename stan::return_type<TR, TV, TB, TL, TJ>::type normal_basis(
   stan::math::check_size_match("normal_basis_lpdf", "rows of x", x.rows(), "size of r", n);
   stan::math::check_size_match("normal_basis_lpdf", "columns of x", x.cols(), "size of beta",
                                beta.size());
+  stan::math::check_size_match("normal_basis_lpdf", "size of d", d.size(), "size of r", n);
   const Eigen::VectorXd rv = value_of(r);
   const Eigen::VectorXd vv = value_of(v);
   const double lambdav = value_of(lambda);
@@ -41,7 +43,7 @@ typename stan::return_type<TR, TV, TB, TL, TJ>::type normal_basis(
   const Eigen::MatrixXd S = sq_exp_lower(x, value_of(beta), lambdav);
   Eigen::MatrixXd sigma(n, n);
   sigma.triangularView<Eigen::Lower>() = K + S;
-  sigma.diagonal().array() += value_of(d);
+  sigma.diagonal() += value_of(d);
   Eigen::VectorXd alpha;
   const double log_det = factor_sigma(sigma, rv, alpha, lapack);
   const double lp = -0.5 * (n * std::log(2 * stan::math::pi()) + log_det + rv.dot(alpha));
@@ -58,7 +60,7 @@ typename stan::return_type<TR, TV, TB, TL, TJ>::type normal_basis(
   add_operands(ops, grads, v, d_v);
   add_operands(ops, grads, beta, t.d_beta);
   add_operand(ops, grads, lambda, -t.ws / lambdav);
-  add_operand(ops, grads, d, t.w);
+  add_operands(ops, grads, d, t.w);
   return finish(lp, ops, grads, static_cast<result_t*>(nullptr));
 }
 

@@ -149,18 +149,19 @@ inline Eigen::MatrixXd sq_exp_lower(const Eigen::MatrixXd& x, const Eigen::Vecto
 
 /* The traces the gradient needs, tr(W M) = sum(W .* M) for symmetric M, from
  * the lower triangles of W = (alpha alpha' - Sigma^-1) / 2, K and S, each
- * off-diagonal entry counted twice: sum(W .* K), sum(W .* S), tr(W) and
+ * off-diagonal entry counted twice: sum(W .* K), sum(W .* S), diag(W) and
  * d_beta[k] = -sum(W .* S .* D_k), D_k[i, j] = (x[i, k] - x[j, k])^2 (zero on
  * the diagonal). One pass, W never formed. */
 struct Traces {
-  double wk = 0, ws = 0, w = 0;
-  Eigen::VectorXd d_beta;
+  double wk = 0, ws = 0;
+  Eigen::VectorXd w, d_beta;
 };
 inline Traces lower_traces(const Eigen::VectorXd& alpha, const Eigen::MatrixXd& sigma_inv,
                            const Eigen::MatrixXd& K, const Eigen::MatrixXd& S,
                            const Eigen::MatrixXd& x) {
   const Eigen::Index n = alpha.size();
   Traces t;
+  t.w = Eigen::VectorXd(n);
   t.d_beta = Eigen::VectorXd::Zero(x.cols());
   for (Eigen::Index j = 0; j < n; ++j) {
     const Eigen::Index m = n - j;
@@ -168,7 +169,7 @@ inline Traces lower_traces(const Eigen::VectorXd& alpha, const Eigen::MatrixXd& 
     const Eigen::ArrayXd ws = w.cwiseProduct(S.col(j).tail(m)).array();
     t.wk += 2 * w.dot(K.col(j).tail(m)) - w(0) * K(j, j);
     t.ws += 2 * ws.sum() - ws(0);
-    t.w += w(0);
+    t.w(j) = w(0);
     for (Eigen::Index k = 0; k < x.cols(); ++k) {
       t.d_beta(k) -= 2 * (ws * (x.col(k).tail(m).array() - x(j, k)).square()).sum();
     }
@@ -177,21 +178,21 @@ inline Traces lower_traces(const Eigen::VectorXd& alpha, const Eigen::MatrixXd& 
 }
 
 /* Log density of r ~ N(0, Sigma) with
- *   Sigma = a K + S + d I,  S the squared-exponential kernel of the rows of
- * x (sq_exp_lower()). One Cholesky factor of Sigma gives the value,
+ *   Sigma = a K + S + diag(d),  S the squared-exponential kernel of the rows
+ * of x (sq_exp_lower()), d each row's noise variance. One Cholesky factor of Sigma gives the value,
  *   -0.5 (n log(2 pi) + log|Sigma| + r' alpha),  alpha = Sigma^-1 r,
  * and Sigma^-1 (factor_sigma(), by Eigen or by R's LAPACK as `lapack` says)
  * gives every partial derivative
  * (Rasmussen & Williams 2006, Eq 5.9): d/dtheta = tr(W dSigma/dtheta) with
  * W = (alpha alpha' - Sigma^-1) / 2,
  * so d/dr = -alpha, d/dK = a W, d/da = sum(W .* K), d/dbeta[k] =
- * -sum(W .* S .* D_k), d/dlambda = -sum(W .* S) / lambda, d/dd = tr(W)
+ * -sum(W .* S .* D_k), d/dlambda = -sum(W .* S) / lambda, d/dd = diag(W)
  * (lower_traces()). */
 template <typename TR, typename TK, typename TA, typename TX, typename TB, typename TL,
           typename TJ>
 typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
     const TR& r_in, const TK& K_in, const TA& a, const TX& x_in, const TB& beta_in,
-    const TL& lambda, const TJ& d, bool lapack) {
+    const TL& lambda, const TJ& d_in, bool lapack) {
   using stan::math::value_of;
   typedef typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type result_t;
   // references: no copy when an argument already has the type (stanc2), a
@@ -199,6 +200,7 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
   const Eigen::Matrix<typename TR::Scalar, Eigen::Dynamic, 1>& r = r_in;
   const Eigen::Matrix<typename TK::Scalar, Eigen::Dynamic, Eigen::Dynamic>& K = K_in;
   const Eigen::Matrix<typename TB::Scalar, Eigen::Dynamic, 1>& beta = beta_in;
+  const Eigen::Matrix<typename TJ::Scalar, Eigen::Dynamic, 1>& d = d_in;
   const Eigen::MatrixXd& x = value_of(x_in);
   const Eigen::Index n = r.size();
   const Eigen::Index P = beta.size();
@@ -207,6 +209,7 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
   stan::math::check_size_match("normal_two_kernels_lpdf", "rows of x", x.rows(), "size of r", n);
   stan::math::check_size_match("normal_two_kernels_lpdf", "columns of x", x.cols(),
                                "size of beta", P);
+  stan::math::check_size_match("normal_two_kernels_lpdf", "size of d", d.size(), "size of r", n);
   const Eigen::VectorXd rv = value_of(r);
   const Eigen::MatrixXd& Kv = value_of(K);
   const double av = value_of(a);
@@ -216,7 +219,7 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
   // sigma with the whole of Sigma^-1
   Eigen::MatrixXd sigma(n, n);
   sigma.triangularView<Eigen::Lower>() = av * Kv + S;
-  sigma.diagonal().array() += value_of(d);
+  sigma.diagonal() += value_of(d);
   Eigen::VectorXd alpha;
   const double log_det = factor_sigma(sigma, rv, alpha, lapack);
   const double lp = -0.5 * (n * std::log(2 * stan::math::pi()) + log_det + rv.dot(alpha));
@@ -230,7 +233,7 @@ typename stan::return_type<TR, TK, TA, TB, TL, TJ>::type normal_two_kernels(
   add_operand(ops, grads, a, t.wk);
   add_operands(ops, grads, beta, t.d_beta);
   add_operand(ops, grads, lambda, -t.ws / lambdav);
-  add_operand(ops, grads, d, t.w);
+  add_operands(ops, grads, d, t.w);
   return finish(lp, ops, grads, static_cast<result_t*>(nullptr));
 }
 

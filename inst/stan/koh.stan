@@ -22,6 +22,8 @@ data {
   // n_pred = 0 leaves the model unchanged
   int<lower=0> n_pred;
   matrix[n_pred, p] x_pred;
+  // each row's noise variance relative to 1 / lambda_e: observed, then predicted
+  vector<lower=0>[n + n_pred] noise_weight;
 }
 transformed data {
   int n_all = n + n_pred;                // field block: observed rows, then predicted rows
@@ -57,7 +59,7 @@ model {
   matrix[n_all + m, n_all + m] sigma_z = koh_cov(nd2_ff, nd2_fc, nd2_cc, nd2_tt,
                                                  eq_ff, eq_fc, eq_cc, eq_tt, tc, tf',
                                                  beta_eta, beta_delta, lambda_eta,
-                                                 lambda_delta, lambda_e, nugget);
+                                                 lambda_delta, noise_weight / lambda_e, nugget);
   // the priors of every parameter
 #include /include/koh_priors.stan
   target += multi_normal_cholesky_lpdf(z | mu, cholesky_decompose(sigma_z));

@@ -5,7 +5,7 @@
 // centred outputs are B W' plus the truncated components (variance s2r per
 // row), each column of W emulated over the parameters by its own Gaussian
 // process fixed at stage 1 (R/fit-basis.R). Given the runs,
-//   y - h' gamma ~ N(mu + B w(tf), B diag(v(tf)) B' + Sigma_delta + (s2r + 1 / lambda_e) I),
+//   y - h' gamma ~ N(mu + B w(tf), B diag(v(tf)) B' + Sigma_delta + s2r I + diag(noise_weight) / lambda_e),
 // each gradient one Cholesky factor and one inverse of an n x n matrix (C++,
 // normal_basis_lpdf()). tf is sampled on a scale linear inside [0, 1]
 // (linear_box_lp()), where the ridge a year of daily data leaves is
@@ -41,7 +41,7 @@ functions {
   }
 }
 data {
-  // n, mt, p, q, K; y, xf, tc and each row's output
+  // n, mt, p, q, K; y, xf, tc, each row's output and noise weight
 #include /include/koh_stage2_data.stan
   // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
@@ -88,7 +88,8 @@ model {
                                 - output_terms(h, gamma, s, len)
                                 | block(B, s, c, len, pc_k), segment(wv, pc + c, pc_k),
                                 block(xf, s, 1, len, p), segment(beta_delta, (k - 1) * p + 1, p),
-                                lambda_delta[k], s2r[k] + 1 / lambda_e[k], lapack);
+                                lambda_delta[k],
+                                s2r[k] + segment(noise_weight, s, len) / lambda_e[k], lapack);
   }
 }
 generated quantities {

@@ -20,6 +20,7 @@ data {
   // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
   int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
+  vector<lower=0>[n] noise_weight;       // each field row's noise variance relative to 1 / lambda_e
 }
 transformed data {
   matrix[n, p] xf = block(x_grid, 1, 1, n, p);
@@ -56,6 +57,6 @@ model {
                                       - discrepancy_terms(h, gamma)
                                       - block(E, 1, 1, n, mt) * head(wc, mt)
                                       | block(Kx, 1, 1, n, n), wc[mt + 1] / lambda_eta, xf,
-                                      beta_delta, lambda_delta, 1 / lambda_e, lapack);
+                                      beta_delta, lambda_delta, noise_weight / lambda_e, lapack);
   }
 }

@@ -20,7 +20,7 @@ functions {
 #include /include/koh_outputs.stan
 }
 data {
-  // n, mt, p, q, K; y, xf, tc and each row's output
+  // n, mt, p, q, K; y, xf, tc, each row's output and noise weight
 #include /include/koh_stage2_data.stan
   // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
@@ -65,7 +65,7 @@ model {
                                       | block(Kx_ff, s, 1, len, len),
                                       wc[mt + 1, k] / lambda_eta_fixed[k], block(xf, s, 1, len, p),
                                       segment(beta_delta, (k - 1) * p + 1, p), lambda_delta[k],
-                                      1 / lambda_e[k], lapack);
+                                      segment(noise_weight, s, len) / lambda_e[k], lapack);
   }
 }
 generated quantities {

@@ -54,7 +54,7 @@ reference_joint <- function(sd, pars) {
     for (j in seq_len(n)) {
       sigma[i, j] <- sigma[i, j] +
         exp(-sum(beta_delta * (sd$xf[i, ] - sd$xf[j, ])^2)) / pars$lambda_delta +
-        (i == j) / pars$lambda_e
+        (i == j) * sd$noise_weight[i] / pars$lambda_e
     }
   }
   # the emulator mean: coefficients b on the columns of [1, x, t] that
@@ -166,7 +166,7 @@ reference_conditional <- function(sd, pars, x_new) {
         xj <- u[j, seq_len(sd$p)]
         v <- v + exp(-sum(beta_delta * (xi - xj)^2)) / pars$lambda_delta
       }
-      if (i == j && is_field[i]) v <- v + 1 / pars$lambda_e
+      if (i == j && is_field[i]) v <- v + sd$noise_weight[i] / pars$lambda_e
       cov[i, j] <- v
     }
   }
@@ -196,9 +196,11 @@ as_draw_pars <- function(pars, nugget, sd) {
 }
 
 # A random grid problem: every run at every field input and at `extra`
-# further inputs, rows shuffled.
-random_grid_data <- function(n = 7, runs = 5, extra = 2) {
+# further inputs, rows shuffled; with `days`, the rows are periods of 20 to
+# 40 days (an input `days`: the noise grows with it).
+random_grid_data <- function(n = 7, runs = 5, extra = 2, days = FALSE) {
   x <- matrix(runif((n + extra) * 2), n + extra, 2, dimnames = list(NULL, c("a", "b")))
+  if (days) x <- cbind(x, days = sample(20:40, n + extra, replace = TRUE))
   design <- cbind(k1 = runif(runs, 0, 3), k2 = runif(runs, 10, 20), k3 = runif(runs))
   sim <- do.call(rbind, lapply(seq_len(runs), function(r) {
     data.frame(eta = rnorm(n + extra, 5), x, t(design[r, ]))
@@ -252,7 +254,7 @@ reference_basis <- function(sd, basis, pars) {
     for (j in seq_len(n)) {
       cov[i, j] <- sum(basis$B[i, ] * comp[2, ] * basis$B[j, ]) +
         exp(-sum(beta_delta * (sd$xf[i, ] - sd$xf[j, ])^2)) / pars$lambda_delta +
-        (i == j) * (basis$s2r + 1 / pars$lambda_e)
+        (i == j) * (basis$s2r + sd$noise_weight[i] / pars$lambda_e)
     }
   }
   mean <- basis$mu + drop(basis$B %*% comp[1, ])

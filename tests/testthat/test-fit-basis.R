@@ -60,7 +60,10 @@ test_that("stage 2 of a basis fit has the log density of the basis emulator give
     shipped = list(d = koh_data(seb_field, seb_sim), priors = koh_priors()),
     random = list(d = random_grid_data(n = 9, runs = 8, extra = 2),
                   priors = koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)),
-                                      rho_delta = c(1.5, 0.5)))
+                                      rho_delta = c(1.5, 0.5))),
+    # periods of different lengths: each row's noise variance grows with its days
+    periods = list(d = random_grid_data(n = 9, runs = 8, extra = 2, days = TRUE),
+                   priors = koh_priors(tf = list(k1 = prior_normal(1.5, 0.2))))
   )
   for (pr in problems) {
     d <- pr$d

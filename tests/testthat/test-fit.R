@@ -61,6 +61,8 @@ test_that("the grid program's log density equals the dense program's", {
                                        emulator_mean = "zero")),
     random = list(d = random, priors = koh_priors(tf = list(k2 = prior_normal(k2_mid, 0.05)),
                                                   nugget = 1e-4)),
+    periods = list(d = random_grid_data(extra = 1, days = TRUE),
+                   priors = koh_priors(nugget = 1e-4)),
     constant = list(d = random_grid_data(extra = 0),
                     priors = koh_priors(emulator_mean = "constant", mean_sd = 0.5,
                                         rho_eta = c(2, 0.3), rho_delta = c(1.5, 0.5)))
@@ -117,6 +119,8 @@ test_that("the grid and modular gradients equal finite differences", {
   skip_on_cran()
   withr::local_seed(12)
   for (n in c(7, 70)) expect_gradient_matches(random_grid_data(n = n, extra = 2))
+  # each row's noise variance its own (periods of different lengths)
+  expect_gradient_matches(random_grid_data(n = 9, extra = 2, days = TRUE))
 })
 
 # normal_two_kernels_lpdf() factors Sigma by Eigen or by R's LAPACK, as

@@ -6,17 +6,21 @@ test_that("conditioning equals a brute-force dense computation on a tiny problem
   sim <- do.call(rbind, lapply(1:3, function(r) data.frame(eta = rnorm(n), x, k = design[r])))
   field <- data.frame(y = rnorm(n), x)
   # a grid over the field inputs, and one with a further input (held out)
-  # with the linear emulator mean (4 terms: 1, a, b, k), and the paper's zero mean
+  # with the linear emulator mean (1, a, b, k; with days, 1 + p + q), and the paper's zero mean
+  # periods of different lengths (input `days`): each row's noise its own
+  days <- c(28, 31, 30, 34)
+  sim_days <- cbind(sim, days = rep(days, 3))[c("eta", "a", "b", "days", "k")]
   cases <- list(list(d = koh_data(field, sim), priors = koh_priors()),
                 list(d = koh_data(field[1:3, ], sim), priors = koh_priors()),
-                list(d = koh_data(field, sim), priors = koh_priors(emulator_mean = "zero")))
+                list(d = koh_data(field, sim), priors = koh_priors(emulator_mean = "zero")),
+                list(d = koh_data(cbind(field, days = days), sim_days), priors = koh_priors()))
   for (case in cases) {
     d <- case$d
     expect_false(is.null(d$grid))
     sd <- bayesbem:::koh_stan_data(d, case$priors)
-    expect_equal(sd$n_b, if (case$priors$emulator_mean == "zero") 0 else 4)
+    expect_equal(sd$n_b, if (case$priors$emulator_mean == "zero") 0 else 1 + d$p + d$q)
     # new rows off the data and on a field input, where the jitter applies
-    x_new <- rbind(matrix(runif(6), 3, 2), d$xf[2, ], d$xc[4, ])
+    x_new <- rbind(matrix(runif(3 * d$p), 3, d$p), d$xf[2, ], d$xc[4, ])
     for (structure in c("dense", "grid")) {
       g <- bayesbem:::gp_geometry(d, x_new, structure)
       for (i in 1:3) {

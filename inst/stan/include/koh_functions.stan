@@ -50,13 +50,13 @@
   }
 
   /* Sigma_z of z = (y, eta) for any design (method section 1): the product
-   * kernel Sigma_eta over all rows, plus Sigma_delta + I / lambda_e on the
-   * field block. Field rows all sit at tf, so their t factor is 1 + nugget
+   * kernel Sigma_eta over all rows, plus Sigma_delta + diag(noise) on the
+   * field block, noise each field row's variance w_i / lambda_e. Field rows all sit at tf, so their t factor is 1 + nugget
    * between each other and one row vector k(tf, t_j) to the design rows. */
   matrix koh_cov(matrix nd2_ff, matrix nd2_fc, matrix nd2_cc, matrix nd2_tt,
                  matrix eq_ff, matrix eq_fc, matrix eq_cc, matrix eq_tt,
                  matrix tc, row_vector tf, vector beta_eta, vector beta_delta,
-                 real lambda_eta, real lambda_delta, real lambda_e, real nugget) {
+                 real lambda_eta, real lambda_delta, vector noise, real nugget) {
     int n = rows(eq_ff);
     int m = rows(tc);
     int p = rows(beta_delta);
@@ -67,7 +67,7 @@
                             + sq_exp_cov(nd2_ff, beta_delta, lambda_delta, n, n);
     matrix[m, m] sigma_cc = jittered_cor(nd2_cc, eq_cc, beta_x, nugget)
                             .* jittered_cor(nd2_tt, eq_tt, tail(beta_eta, cols(tc)), nugget) / lambda_eta;
-    return append_row(append_col(add_diag(sigma_ff, 1 / lambda_e), sigma_fc),
+    return append_row(append_col(add_diag(sigma_ff, noise), sigma_fc),
                       append_col(sigma_fc', sigma_cc));
   }
 
@@ -85,17 +85,17 @@
                    + lambda_eta * sum(columns_dot_self(white)));
   }
 
-  /* Log density of r ~ N(0, a K + S + d I), S the squared-exponential
-   * kernel of the rows of x, sq_exp_cov(neg_sqdist(x, x), beta, lambda, n, n)
+  /* Log density of r ~ N(0, a K + S + diag(d)), d each row's noise
+   * variance and S the squared-exponential kernel of the rows of x, sq_exp_cov(neg_sqdist(x, x), beta, lambda, n, n)
    * (method Eq 2). Defined in C++
    * with its analytic gradient (inst/include/normal_two_kernels.hpp): one
    * Cholesky factor and one inverse of the n x n covariance per gradient, by
    * R's LAPACK when lapack is 1, else by Eigen (R's use_lapack() chooses).
    * Only the model blocks call it (the C++ is visible there, not here). */
   real normal_two_kernels_lpdf(vector r, matrix K, real a, matrix x, vector beta, real lambda,
-                               real d, int lapack);
+                               vector d, int lapack);
 
-  /* Log density of r ~ N(0, B diag(v) B' + S + d I), B the basis of a
+  /* Log density of r ~ N(0, B diag(v) B' + S + diag(d)), B the basis of a
    * principal-component emulator (data), v its components' variances at tf
    * and S the squared-exponential kernel of the rows of x, sq_exp_cov()
    * (the discrepancy): the field outputs given the runs under the basis
@@ -103,7 +103,7 @@
    * (inst/include/normal_basis.hpp), one Cholesky factor and one inverse of
    * the n x n covariance per gradient, as normal_two_kernels_lpdf(). */
   real normal_basis_lpdf(vector r, matrix B, vector v, matrix x, vector beta, real lambda,
-                         real d, int lapack);
+                         vector d, int lapack);
 
   /* The components of a principal-component emulator at tf (Higdon,
    * Gattiker, Williams & Rightley 2008, JASA 103; inst/notes/design.md,
@@ -134,7 +134,7 @@
 
   /* The field outputs given the runs on a grid (inst/notes/design.md, "Grid
    * designs"):
-   *   y | E ~ N((E w)[1:n], c Kx_ff / lambda_eta + Sigma_delta + I / lambda_e),
+   *   y | E ~ N((E w)[1:n], c Kx_ff / lambda_eta + Sigma_delta + diag(noise_weight) / lambda_e),
    * w = Kt^-1 k0 and c = 1 + nugget - k0' Kt^-1 k0, from the Cholesky factor
    * Lt of Kt and k0 = k_t(tf, t_a). Returns append_row(w, c). */
   vector runs_weights(matrix Lt, vector k0, real nugget) {

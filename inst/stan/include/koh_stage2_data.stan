@@ -8,3 +8,4 @@
   int<lower=1> K;                        // outputs (meters)
   // the output of each field row, 1 to K: output 1's rows first, then 2's
   vector<lower=1, upper=K>[n] output;
+  vector<lower=0>[n] noise_weight;       // each field row's noise variance relative to 1 / lambda_e
