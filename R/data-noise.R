@@ -23,3 +23,14 @@ noise_weights <- function(data, x = data$field) {
 period_weights <- function(x, reference = noise_reference(x)) {
   if (is.null(reference)) rep(1, NROW(x)) else x[, "days"] / reference
 }
+
+# Each field row's noise variance for one draw `par` of a fit whose
+# geometry `g` (gp_geometry()) holds the rows' weights.
+noise_var <- function(g, par) g$noise / par$lambda_e
+
+# Observation noise N(0, w_i / lambda_e), standardised: draws (rows) by
+# periods of weights `w` (columns).
+noise_matrix <- function(draws, w) {
+  sd_e <- 1 / sqrt(vapply(draws, `[[`, numeric(1), "lambda_e"))
+  matrix(stats::rnorm(length(draws) * length(w)), length(draws)) * outer(sd_e, sqrt(w))
+}

@@ -94,9 +94,6 @@ koh_sigma_z <- function(g, par, dg = draw_geometry(g, par)) {
   rbind(cbind(s_ff, s_fc), cbind(t(s_fc), s_cc))
 }
 
-# Each field row's noise variance for one draw, w_i / lambda_e (R/data-noise.R).
-noise_var <- function(g, par) g$noise / par$lambda_e
-
 # The field outputs less the draw's parametric discrepancy terms h' gamma,
 # which is what the Gaussian processes model.
 field_y <- function(g, par) {

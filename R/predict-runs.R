@@ -180,9 +180,3 @@ noise_draws <- function(fit, draws, x) {
   fit$data$scaling$y_scale * noise_matrix(draws, noise_weights(fit$data, x))
 }
 
-# Observation noise N(0, w_i / lambda_e), standardised: draws (rows) by
-# periods of weights `w` (columns).
-noise_matrix <- function(draws, w) {
-  sd_e <- 1 / sqrt(vapply(draws, `[[`, numeric(1), "lambda_e"))
-  matrix(stats::rnorm(length(draws) * length(w)), length(draws)) * outer(sd_e, sqrt(w))
-}
