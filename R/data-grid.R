@@ -5,18 +5,22 @@
 
 # The grid layout of scaled field inputs `xf`, simulation inputs `xc` and
 # design `tc`, or NULL when they do not form a full grid. The grid inputs are
-# the field inputs (distinct) followed by any further simulation inputs
-# (e.g. of held-out periods); every run (distinct row of tc) must have
-# exactly one row at each grid input, in any order. A simulation row is at a
-# field input when every scaled input is within `tol` of it (tables written
-# separately differ by rounding). Returns the grid inputs `x` (field rows
-# first), `index[i, a]` (the simulation row of run a at grid input i), the
-# run `design`, each simulation row's grid input `period`, and `max_diff`,
-# the largest difference matched.
+# the distinct field inputs (field rows sharing their inputs, two calm night
+# hours, share one) followed by any further simulation inputs (e.g. of
+# held-out periods); every run (distinct row of tc) must have exactly one
+# row at each grid input, in any order. A simulation row is at a field input
+# when every scaled input is within `tol` of it (tables written separately
+# differ by rounding). Returns the grid inputs `x` (the `n` field inputs
+# first), `field` (the grid input of each field row), `index[i, a]` (the
+# simulation row of run a at grid input i), the run `design`, each
+# simulation row's grid input `period`, and `max_diff`, the largest
+# difference matched.
 grid_layout <- function(xf, xc, tc, tol = 0) {
   dist <- function(a, b) {
     Reduce(pmax, lapply(seq_len(ncol(a)), function(k) abs(outer(a[, k], b[, k], "-"))))
   }
+  field <- row_groups(xf)
+  xf <- xf[!duplicated(field), , drop = FALSE]
   d_ff <- dist(xf, xf)
   diag(d_ff) <- Inf
   if (any(d_ff <= tol)) {
@@ -38,7 +42,7 @@ grid_layout <- function(xf, xc, tc, tol = 0) {
   }
   index <- matrix(NA_integer_, nrow(x), mt)
   index[cbind(period, run)] <- seq_along(period)
-  list(n = n, n_x = nrow(x), mt = mt, x = x, index = index,
+  list(n = n, n_x = nrow(x), mt = mt, x = x, field = field, index = index,
        design = tc[index[1, ], , drop = FALSE], period = period,
        max_diff = max(c(0, gap[matched])))
 }
@@ -72,9 +76,32 @@ grid_runs <- function(data) {
   matrix(data$eta[data$grid$index], data$grid$n_x)
 }
 
+# The grid input of each field row: periods sharing their inputs share
+# one (grids made before `field` was kept have one per field row).
+field_rows <- function(grid) {
+  grid$field %||% seq_len(grid$n)
+}
+
+# The grid inputs of the field rows (scaled), and the runs there (field
+# row by run).
+field_grid_inputs <- function(data) {
+  data$grid$x[field_rows(data$grid), , drop = FALSE]
+}
+
+field_runs <- function(data) {
+  grid_runs(data)[field_rows(data$grid), , drop = FALSE]
+}
+
 # Keys of a table's rows to 6 significant digits: the periods of a simulator
 # and of a fit match by value, whatever rounding their inputs went through.
 value_keys <- function(x) row_keys(signif(as.matrix(x), 6))
+
+# match() that pairs repeated keys in order: the k-th element of `x` with a
+# key takes the k-th row of `table` with it (periods sharing their inputs).
+match_in_order <- function(x, table) {
+  nth <- function(v) stats::ave(seq_along(v), v, FUN = seq_along)
+  match(paste(x, nth(x)), paste(table, nth(table)))
+}
 
 # Exact keys of matrix rows (hexadecimal doubles), so that rows match only
 # when every value is identical, as Stan's equal_rows() requires.

@@ -23,8 +23,14 @@
 #' not read (utilities mark them on the bill): those rows are left out,
 #' with a message.
 #'
-#' Simulation rows must be distinct: repeated runs with the same inputs and
-#' parameters make the emulator's covariance singular; average them first.
+#' Rows are periods, and two periods may share their inputs (two calm night
+#' hours with the same weather, hour and weekday): each run then has a row
+#' at each, and since the emulator takes the simulator as a function of the
+#' inputs, those rows are averaged into one, with a message saying by how
+#' much they differed (a state the inputs miss, such as the building's
+#' stored heat, is then left to the discrepancy). More rows with the same
+#' inputs and parameters than the field's periods there are a run
+#' repeated, an error: average repeated runs first.
 #'
 #' Scaling (undone for every number shown to users):
 #' * `y` and `eta` are standardised with the mean and standard deviation of

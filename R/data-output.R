@@ -12,6 +12,7 @@ koh_data_one <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, p
   cols$period <- period
   check_numeric_complete(field, c(cols$y, cols$x), "field", call = call)
   check_numeric_complete(sim, c(cols$eta, cols$x_sim, cols$t), "sim", call = call)
+  sim <- shared_input_runs(sim, cols, as.matrix(field[cols$x]), call)
   n <- nrow(field)
   m <- nrow(sim)
   q <- length(cols$t)
@@ -41,7 +42,6 @@ koh_data_one <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, p
   check_units(field[[cols$y]], eta_raw, cols, xf_raw, xc_raw, call = call)
   check_varies(scaling$x_max - scaling$x_min, cols$x, "field and sim together", call = call)
   check_varies(apply(tc_raw, 2, max) - apply(tc_raw, 2, min), cols$t, "sim", call = call)
-  check_distinct_runs(cbind(xc_raw, tc_raw), call = call)
   scaling$t_scale <- parameter_scales(scales, tc_raw, xc_raw, eta_raw, call = call)
   on_scale <- tc_raw
   for (k in cols$t) on_scale[, k] <- scale_functions[[scaling$t_scale[[k]]]]$to(tc_raw[, k])
@@ -281,16 +281,38 @@ check_has_columns <- function(d, cols, arg, call) {
   }
 }
 
-# Two simulation rows with the same inputs and parameters make the emulator
-# covariance singular (a deterministic simulator gives them one output).
-check_distinct_runs <- function(xt, call = rlang::caller_env()) {
-  dup <- which(duplicated(xt))
+# The runs with one row per input and parameters. Field periods may share
+# their inputs (two calm night hours of the same weather, hour and
+# weekday), and each run then has a row at each; the emulator takes the
+# simulator as a function of the inputs, one output per input, so those
+# rows are averaged, said in a message with how much they differed (a
+# state the inputs miss, such as the building's stored heat). More rows
+# than the field's periods there are a run repeated, an error: two rows
+# with the same inputs and parameters make the emulator singular.
+shared_input_runs <- function(sim, cols, xf, call = rlang::caller_env()) {
+  key <- row_keys(as.matrix(sim[c(cols$x_sim, cols$t)]))
+  times <- stats::ave(seq_along(key), key, FUN = seq_along)
+  periods <- as.vector(table(row_keys(xf))[row_keys(as.matrix(sim[cols$x_sim]))])
+  dup <- which(times > ifelse(is.na(periods), 1L, periods))
   if (length(dup) > 0L) {
-    first <- which(duplicated(xt, fromLast = TRUE))
-    abort_bayesbem(c("{.arg sim} has {length(dup)} duplicated row{?s} (same inputs and parameters): {.val {dup}}.",
+    first <- which(key %in% key[dup] & times == 1L)
+    abort_bayesbem(c("{.arg sim} has {length(dup)} duplicated row{?s} (same inputs and parameters, more than the field periods sharing those inputs): {.val {dup}}.",
                      i = "Average the outputs of repeated runs, or drop the repeats (rows repeated: {.val {first}})."),
                    "duplicated", call = call)
   }
+  if (!anyDuplicated(key)) {
+    return(sim)
+  }
+  group <- match(key, unique(key))
+  eta <- sim[[cols$eta]]
+  spread <- max(tapply(eta, group, function(e) diff(range(e)))) / stats::sd(eta)
+  shared <- which(duplicated(row_keys(xf)))
+  cli::cli_inform(c(i = "{length(shared)} field period{?s} share{?s/} {?its/their} inputs with an earlier one (row{?s} {shared}): each run's outputs at those periods are averaged, the emulator's one output per input.",
+                    " " = "They differ by up to {signif(100 * spread, 2)}% of the runs' sd; if that matters, add an input that tells such periods apart (e.g. the previous day's mean temperature)."),
+                  class = "bayesbem_message_shared_inputs")
+  merged <- sim[!duplicated(key), , drop = FALSE]
+  merged[[cols$eta]] <- as.vector(tapply(eta, group, mean))
+  merged
 }
 
 check_varies <- function(ranges, cols, where, call = rlang::caller_env()) {

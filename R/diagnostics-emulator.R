@@ -233,7 +233,7 @@ simulator_rows <- function(fit, simulator, call) {
   check_fit_simulator(fit, simulator, call)
   data <- fit$data
   field <- field_inputs(data)[data$names$x]
-  rows <- match(value_keys(field), value_keys(simulator$x[data$names$x]))
+  rows <- match_in_order(value_keys(field), value_keys(simulator$x[data$names$x]))
   if (anyNA(rows) && nrow(simulator$x) == nrow(field)) {
     # as many periods as the fit: taken in order, the differences reported
     spread <- vapply(data$names$x, function(v) diff(range(field[[v]])), numeric(1))

@@ -18,7 +18,7 @@
 # fit_component() per component, keeping the fewest components that hold
 # `variance` of the centred runs' variance.
 basis_emulator <- function(data, variance = 0.999) {
-  e <- grid_runs(data)[seq_len(data$n), , drop = FALSE]
+  e <- field_runs(data)
   mu <- rowMeans(e)
   sv <- svd(e - mu)
   share <- cumsum(sv$d^2) / sum(sv$d^2)

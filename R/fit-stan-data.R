@@ -11,7 +11,8 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
   if (structure == "grid") {
     grid <- data$grid
     return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = data$q, y = data$y,
-                  eta = grid_runs(data), x_grid = grid$x,
+                  eta = grid_runs(data), x_grid = grid$x, xf = field_grid_inputs(data),
+                  eta_f = field_runs(data),
                   tc = grid$design, lapack = as.integer(use_lapack(call)),
                   noise_weight = as.array(noise_weights(data))),
              prior_data))
@@ -134,7 +135,7 @@ stage2_stan_data <- function(data, priors, emulator) {
   prior$n_h <- ncol(prior$h)
   c(list(n = sum(vapply(outputs, `[[`, integer(1), "n")), mt = first$grid$mt, p = first$p,
          q = first$q, y = unlist(lapply(outputs, `[[`, "y")),
-         xf = do.call(rbind, lapply(outputs, function(d) d$grid$x[seq_len(d$n), , drop = FALSE])),
+         xf = do.call(rbind, lapply(outputs, field_grid_inputs)),
          tc = first$grid$design, K = length(outputs),
          output = as.array(rep(seq_along(outputs), vapply(outputs, `[[`, integer(1), "n"))),
          noise_weight = as.array(unlist(lapply(outputs, noise_weights))),
@@ -194,14 +195,13 @@ modular_stan_data <- function(data, priors, emulator) {
 # One output's pieces of modular_stan_data().
 modular_pieces <- function(data, emulator, priors) {
   grid <- data$grid
-  n <- data$n
   p <- data$p
-  xf <- grid$x[seq_len(n), , drop = FALSE]
+  xf <- field_grid_inputs(data)
   coef <- drop(mean_selection(priors, p, data$q) %*% emulator$b)
   if (length(coef) == 0L) coef <- numeric(1 + p + data$q)
   beta_x <- emulator$beta_eta[seq_len(p)]
   beta_t <- emulator$beta_eta[-seq_len(p)]
-  E <- grid_runs(data)[seq_len(n), , drop = FALSE]
+  E <- field_runs(data)
   kt <- jittered_cor(pair_geometry(grid$design, grid$design), beta_t, priors$nugget)
   list(E_f = E - grid_mean(xf, grid$design, coef),
        Kx_ff = jittered_cor(pair_geometry(xf, xf), beta_x, priors$nugget),

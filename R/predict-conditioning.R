@@ -19,6 +19,7 @@ gp_geometry <- function(data, x_new = NULL, structure = "dense", basis = NULL) {
     grid <- data$grid
     g$tc <- grid$design
     g$E <- grid_runs(data)
+    g$field <- field_rows(grid)
     g$x_grid <- grid$x
     g$tt <- pair_geometry(g$tc, g$tc)
     g$xx <- pair_geometry(grid$x, grid$x)
@@ -163,7 +164,7 @@ field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
     s <- sum(v^2)
     kx <- jittered_cor(g$xx, dg$bx, par$nugget)
     c_t <- 1 + par$nugget - s
-    f <- seq_len(g$n)
+    f <- g$field
     cov <- c_t * kx[f, f] / par$lambda_eta + delta_cov(g$ff, par)
     diag(cov) <- diag(cov) + noise_var(g, par)
     mean_x <- drop(g$E %*% backsolve(r_t, v))

@@ -1,6 +1,7 @@
 // Kennedy-O'Hagan calibration on a grid design: every one of the mt runs is
-// made at the n field inputs (x_c = x_f) and possibly at further inputs, e.g.
-// of held-out periods (n_x in all). The log density equals koh.stan's,
+// made at the field inputs (x_c = x_f; field rows sharing their inputs
+// share a grid input) and possibly at further inputs, e.g. of held-out
+// periods (n_x in all). The log density equals koh.stan's,
 // but the emulator covariance is the Kronecker product Kt (x) Kx, so each
 // gradient costs O(mt^3 + n^3) instead of O((n (mt + 1))^3).
 functions {
@@ -8,8 +9,8 @@ functions {
 #include /include/koh_functions.stan
 }
 data {
-  int<lower=1> n;                        // field observations (distinct inputs)
-  int<lower=n> n_x;                      // grid inputs: the field inputs first
+  int<lower=1> n;                        // field observations
+  int<lower=1> n_x;                      // grid inputs: the distinct field inputs first
   int<lower=1> mt;                       // simulation runs
   int<lower=1> p;                        // observable inputs x
   int<lower=1> q;                        // calibration parameters t
@@ -17,13 +18,16 @@ data {
   matrix[n_x, mt] eta;                   // simulator output of run a at grid input i
   matrix[n_x, p] x_grid;                 // grid inputs, shared by every run
   matrix[mt, q] tc;                      // simulation design, one row per run
+  matrix[n, p] xf;                       // each field row's grid input
+  matrix[n, mt] eta_f;                   // the runs at each field row's grid input
   // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
   int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
   vector<lower=0>[n] noise_weight;       // each field row's noise variance relative to 1 / lambda_e
 }
 transformed data {
-  matrix[n, p] xf = block(x_grid, 1, 1, n, p);
+  matrix[n * n, p + 1] nd2_ff = neg_sqdist(xf, xf);
+  matrix[n, n] eq_ff = equal_rows(xf, xf);
   matrix[n_x * n_x, p + 1] nd2_xx = neg_sqdist(x_grid, x_grid);
   matrix[mt * mt, q + 1] nd2_tt = neg_sqdist(tc, tc);
   matrix[n_x, n_x] eq_xx = equal_rows(x_grid, x_grid);
@@ -55,8 +59,9 @@ model {
     target += runs_grid_lpdf(E | cholesky_decompose(Kx), Lt, lambda_eta);
     target += normal_two_kernels_lpdf(y - emulator_mean(xf, rep_matrix(tf', n), coef)
                                       - discrepancy_terms(h, gamma)
-                                      - block(E, 1, 1, n, mt) * head(wc, mt)
-                                      | block(Kx, 1, 1, n, n), wc[mt + 1] / lambda_eta, xf,
+                                      - (eta_f - grid_mean(xf, tc, coef)) * head(wc, mt)
+                                      | jittered_cor(nd2_ff, eq_ff, head(beta_eta, p), nugget),
+                                      wc[mt + 1] / lambda_eta, xf,
                                       beta_delta, lambda_delta, noise_weight / lambda_e, lapack);
   }
 }

@@ -24,7 +24,7 @@ test_that("runs at further inputs (held-out periods) still form a grid", {
   expect_equal(bayesbem:::choose_structure(d, "auto"), "grid")
 })
 
-test_that("incomplete grids and repeated field inputs are not grids", {
+test_that("incomplete grids are not grids", {
   expect_null(koh_data(seb_field, seb_sim[-7, ])$grid)
   moved <- seb_sim
   moved$temp[1] <- moved$temp[1] + 0.01
@@ -34,9 +34,48 @@ test_that("incomplete grids and repeated field inputs are not grids", {
   expect_false(is.null(near$grid))
   moved$temp[1] <- moved$temp[1] + 5
   expect_null(koh_data(seb_field, moved)$grid)
-  field <- seb_field
-  field[2, c("temp", "rh", "solar")] <- field[1, c("temp", "rh", "solar")]
-  expect_null(koh_data(field, seb_sim)$grid)
+})
+
+test_that("periods sharing their inputs share a grid input, each run's outputs there averaged", {
+  withr::local_seed(5)
+  # field rows 1 and 3 share their inputs (two calm night hours)
+  x <- data.frame(a = c(0.1, 0.5, 0.1, 0.9, 0.3), b = c(1, 2, 1, 3, 2))
+  sim <- do.call(rbind, lapply(1:4, function(r) data.frame(eta = rnorm(5, 5), x, k = r)))
+  field <- data.frame(y = rnorm(5, 5), x)
+  expect_message(d <- koh_data(field, sim[sample(20), ]), class = "bayesbem_message_shared_inputs")
+  expect_equal(c(d$n, d$m, d$grid$n, d$grid$n_x, d$grid$mt), c(5, 16, 4, 4, 4))
+  expect_equal(d$grid$field, c(1, 2, 1, 3, 4))
+  runs <- bayesbem:::grid_runs(d) * d$scaling$y_scale + d$scaling$y_center
+  for (a in 1:4) {
+    run <- d$sim$k[d$grid$index[1, a]]
+    expect_equal(runs[1, a], mean(sim$eta[sim$k == run & sim$a == 0.1]))
+  }
+  # the grid and dense programs, and the R conditionals, agree
+  priors <- koh_priors(nugget = 1e-4)
+  dense <- bayesbem:::koh_stan_data(d, priors, structure = "dense")
+  grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
+  g_dense <- bayesbem:::gp_geometry(d, NULL, "dense")
+  g_grid <- bayesbem:::gp_geometry(d, NULL, "grid")
+  for (i in 1:3) {
+    pars <- random_koh_pars(dense)
+    lp <- stan_log_density(koh_model_for(dense), pars)
+    expect_equal(stan_log_density(koh_model_for(grid, "koh_grid"), pars[names(pars) != "y_pred"]),
+                 lp, tolerance = 1e-8)
+    expect_equal(reference_log_density(dense, pars), lp, tolerance = 1e-8)
+    par <- as_draw_pars(pars, priors$nugget, dense)
+    at_grid <- bayesbem:::field_given_runs(bayesbem:::residual_geometry(g_grid, par), par)
+    at_dense <- bayesbem:::field_given_runs(bayesbem:::residual_geometry(g_dense, par), par)
+    expect_equal(at_grid[c("mean", "cov")], at_dense[c("mean", "cov")], tolerance = 1e-8,
+                 ignore_attr = TRUE)
+  }
+  # the case study with February's weather set to January's: a grid still
+  seb <- seb_field
+  seb[2, c("temp", "rh", "solar")] <- seb[1, c("temp", "rh", "solar")]
+  expect_equal(koh_data(seb, seb_sim)$grid$field[1:3], c(1, 1, 2))
+  # a run repeated beyond the field's periods is an error
+  expect_error(koh_data(field, rbind(sim, sim[1, ])), class = "bayesbem_error_duplicated")
+  # a simulator's periods pair with field rows sharing inputs in order
+  expect_equal(bayesbem:::match_in_order(c("a", "b", "a", "c"), c("b", "a", "a")), c(2, 1, 3, NA))
 })
 
 test_that("the likelihood structure is chosen automatically or forced", {
