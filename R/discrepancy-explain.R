@@ -28,7 +28,12 @@
 #' parameter's error moves heating and cooling months differently, and a
 #' linear correction alone leaves a step at the switch between them. The candidate's `share` is the
 #' fraction of the remaining residual variance it explains (a partial R^2),
-#' summarised over draws by its mean and a central interval. A candidate
+#' its mean over the posterior draws. Its interval says how much the share
+#' rests on particular periods: leaving out blocks of about `n^(1/3)`
+#' consecutive periods in turn (delete-a-block jackknife; the block keeps
+#' autocorrelated neighbours together), `share -/+ z se`. The posterior
+#' draws alone give no interval: their residuals differ only in what
+#' recalibration absorbs, which the share leaves out. A candidate
 #' that only mimics a parameter's effect gets a share near zero: the data
 #' cannot tell it from parameter error.
 #'
@@ -144,11 +149,12 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   null_cov <- inflation * mean_of("emulator") + diag(mean_of("noise"), data$n)
   n <- data$n
   null <- with_seed(seed, crossprod(jittered_chol(null_cov), matrix(stats::rnorm(n * n_null), n)))
-  scores <- lapply(terms, function(b) term_scores(b, residual, nuisance, null, level))
+  mean_residual <- colMeans(residual)
+  blocks <- jackknife_blocks(basis, mean_residual)
+  scores <- lapply(terms, function(b) term_scores(b, residual, nuisance, null, level, blocks))
   out <- data.frame(candidate = names(terms),
                     do.call(rbind, lapply(scores, `[[`, "summary")), row.names = NULL)
   out$p_value <- adjusted_p_values(scores, family, weights)
-  mean_residual <- colMeans(residual)
   baseline <- press(basis, mean_residual)
   out$cv_gain <- vapply(terms, function(b) cv_gain(mean_residual, basis, b, baseline), numeric(1))
   out$explains <- out$p_value < alpha & out$cv_gain > 0
@@ -160,7 +166,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
     if (label == out$candidate[i]) next
     terms[[i]] <- cbind(region_values(label, candidates))
     names(terms)[i] <- out$candidate[i] <- label
-    scores[[i]] <- term_scores(terms[[i]], residual, nuisance, null, level)
+    scores[[i]] <- term_scores(terms[[i]], residual, nuisance, null, level, blocks)
     out[i, c("share", "lower", "upper")] <- scores[[i]]$summary[c("share", "lower", "upper")]
     out$cv_gain[i] <- cv_gain(mean_residual, basis, terms[[i]], baseline)
     out$explains[i] <- out$cv_gain[i] > 0
@@ -216,7 +222,7 @@ explanation_verdict <- function(x, level, ambiguous = character(0)) {
   } else {
     ""
   }
-  sprintf("The discrepancy is best explained by %s: %.0f%% of the simulator residual (%g%% interval %.0f-%.0f%%, adjusted p = %.2g)%s.",
+  sprintf("The discrepancy is best explained by %s: %.0f%% of the simulator residual (%g%% interval over left-out periods %.0f-%.0f%%, adjusted p = %.2g)%s.",
           top$candidate, 100 * top$share, 100 * level, 100 * top$lower, 100 * top$upper,
           top$p_value, others)
 }

@@ -73,15 +73,17 @@ recalibration_basis <- function(eta, tf) {
 
 # Share of the residual variance a term explains beyond recalibration
 # (partial R^2 given the QR-decomposed `nuisance` basis): per draw (rows of
-# `residual`), summarised by mean and interval; for the posterior mean
-# residual against the simulated null residuals (columns of `null`), the
-# standardised excess `z` = (R^2 - null mean) / null sd, and the null
-# residuals' own standardised values (for the max-statistic adjustment).
-term_scores <- function(b, residual, nuisance, null, level) {
-  free_b <- qr.resid(nuisance, b)
-  # a column inside the recalibration span is all rounding error: drop it
-  free_b <- free_b[, sqrt(colSums(free_b^2)) > 1e-8 * sqrt(colSums(b^2)), drop = FALSE]
-  r_squared <- function(r) {
+# `residual`), summarised by their mean, with the interval of
+# share_interval() over the `blocks` of periods (jackknife_blocks()); for
+# the posterior mean residual against the simulated null residuals
+# (columns of `null`), the standardised excess `z` = (R^2 - null mean) /
+# null sd, and the null residuals' own standardised values (for the
+# max-statistic adjustment).
+term_scores <- function(b, residual, nuisance, null, level, blocks) {
+  r_squared <- function(r, q = nuisance, columns = b) {
+    free_b <- qr.resid(q, columns)
+    # a column inside the recalibration span is all rounding error: drop it
+    free_b <- free_b[, sqrt(colSums(free_b^2)) > 1e-8 * sqrt(colSums(columns^2)), drop = FALSE]
     if (ncol(free_b) == 0L) {
       return(rep(0, NCOL(r)))
     }
@@ -93,9 +95,39 @@ term_scores <- function(b, residual, nuisance, null, level) {
   reference <- r_squared(qr.resid(nuisance, null))
   spread <- max(stats::sd(reference), .Machine$double.eps)
   z <- (r_squared(rowMeans(free)) - mean(reference)) / spread
-  interval <- stats::quantile(shares, c((1 - level) / 2, (1 + level) / 2), names = FALSE)
+  left_out <- vapply(blocks, function(k) r_squared(k$free, k$nuisance, b[k$rows, , drop = FALSE]),
+                     numeric(1))
+  interval <- share_interval(mean(shares), left_out, level)
   list(summary = data.frame(share = mean(shares), lower = interval[1], upper = interval[2], z = z),
        null_z = (reference - mean(reference)) / spread, shares = shares)
+}
+
+# The posterior mean residual without each block of consecutive periods
+# in turn, beyond recalibration on the remaining rows: `rows` kept, the QR
+# `nuisance` of their recalibration basis and the residual's `free` part.
+# Blocks of about n^(1/3) periods (the block length of Kunsch's 1989
+# moving-block bootstrap), so that a left-out period's autocorrelated
+# neighbours go with it.
+jackknife_blocks <- function(basis, mean_residual) {
+  n <- length(mean_residual)
+  size <- max(1L, round(n^(1 / 3)))
+  lapply(split(seq_len(n), ceiling(seq_len(n) / size)), function(out) {
+    rows <- setdiff(seq_len(n), out)
+    q <- qr(basis[rows, , drop = FALSE])
+    list(rows = rows, nuisance = q, free = qr.resid(q, mean_residual[rows]))
+  })
+}
+
+# The interval of a share from its values without each of g blocks
+# (delete-a-block jackknife, Kunsch 1989): share -/+ z se, se^2 = (g - 1) /
+# g * sum((s_i - mean(s))^2), within [0, 1]. How much the share rests on
+# particular periods: the posterior draws alone differ only in what
+# recalibration absorbs, so their spread is no interval of the share.
+share_interval <- function(share, left_out, level) {
+  g <- length(left_out)
+  se <- sqrt((g - 1) / g * sum((left_out - mean(left_out))^2))
+  z <- stats::qnorm((1 + level) / 2)
+  c(max(share - z * se, 0), min(share + z * se, 1))
 }
 
 # R^2 of the posterior mean residual beyond recalibration (`free`, already

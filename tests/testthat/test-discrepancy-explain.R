@@ -98,6 +98,40 @@ test_that("the null keeps the model's structure: residuals given the runs, covar
   expect_equal(out$noise, rep(1 / par$lambda_e, 12), ignore_attr = TRUE)
 })
 
+test_that("a share's interval is the jackknife over blocks of periods, not the draws' spread", {
+  withr::local_seed(8)
+  n <- 27
+  # blocks of round(27^(1/3)) = 3 consecutive periods
+  basis <- cbind(1, stats::rnorm(n))
+  r <- stats::rnorm(n)
+  blocks <- bayesbem:::jackknife_blocks(basis, r)
+  expect_length(blocks, 9)
+  expect_equal(setdiff(seq_len(n), blocks[[2]]$rows), 4:6)
+  # without block 2, the share is the partial R^2 of lm() on the rows left
+  b <- cbind(stats::rnorm(n))
+  rows <- blocks[[2]]$rows
+  reduced <- stats::lm(r[rows] ~ basis[rows, 2])
+  full <- stats::lm(r[rows] ~ basis[rows, 2] + b[rows, 1])
+  partial <- 1 - sum(stats::residuals(full)^2) / sum(stats::residuals(reduced)^2)
+  residual <- matrix(r, 1)
+  s <- bayesbem:::term_scores(b, residual, qr(basis), matrix(stats::rnorm(n * 5), n), 0.9, blocks)
+  left_out <- vapply(blocks, function(k) {
+    rss <- function(fit) sum(stats::residuals(fit)^2)
+    1 - rss(stats::lm(r[k$rows] ~ basis[k$rows, 2] + b[k$rows, 1])) /
+      rss(stats::lm(r[k$rows] ~ basis[k$rows, 2]))
+  }, numeric(1))
+  expect_equal(left_out[[2]], partial)
+  se <- sqrt(8 / 9 * sum((left_out - mean(left_out))^2))
+  expect_equal(unlist(s$summary[c("lower", "upper")]),
+               pmin(pmax(s$summary$share + c(-1, 1) * stats::qnorm(0.95) * se, 0), 1),
+               ignore_attr = TRUE)
+  # on the shipped fit the interval is an interval, not the share again
+  ex <- explain_discrepancy(seb_fit, n_null = 100, ndraws = 20, regions = FALSE, seed = 1)
+  expect_true(all(ex$upper - ex$lower > 0.02))
+  expect_true(all(ex$lower <= ex$share & ex$share <= ex$upper))
+  expect_match(attr(ex, "verdict"), "interval over left-out periods|No candidate")
+})
+
 test_that("recalibration removes the output's curvature in the parameters", {
   # eta draws exactly quadratic in tf: nothing is left after projection
   tf <- withr::with_seed(1, matrix(stats::rnorm(400), 200))
@@ -215,7 +249,10 @@ test_that("on simulated nulls each family of terms holds its share of alpha", {
   null <- matrix(stats::rnorm(n * 400), n)
   alarms <- vapply(seq_len(100), function(i) {
     r <- matrix(stats::rnorm(n), 1)
-    scores <- lapply(c(main, regions), function(b) bayesbem:::term_scores(b, r, nuisance, null, 0.9))
+    blocks <- bayesbem:::jackknife_blocks(matrix(1, n), drop(r))
+    scores <- lapply(c(main, regions), function(b) {
+      bayesbem:::term_scores(b, r, nuisance, null, 0.9, blocks)
+    })
     p <- bayesbem:::adjusted_p_values(scores, family, bayesbem:::region_weights)
     c(main = any(p[family == "main"] < 0.05), region = any(p[family == "region"] < 0.05))
   }, logical(2))
