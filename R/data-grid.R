@@ -16,20 +16,15 @@
 # simulation row's grid input `period`, and `max_diff`, the largest
 # difference matched.
 grid_layout <- function(xf, xc, tc, tol = 0) {
-  dist <- function(a, b) {
-    Reduce(pmax, lapply(seq_len(ncol(a)), function(k) abs(outer(a[, k], b[, k], "-"))))
-  }
   field <- row_groups(xf)
   xf <- xf[!duplicated(field), , drop = FALSE]
-  d_ff <- dist(xf, xf)
-  diag(d_ff) <- Inf
-  if (any(d_ff <= tol)) {
+  if (has_near_rows(xf, tol)) {
     return(NULL)
   }
   n <- nrow(xf)
-  d_cf <- dist(xc, xf)
-  nearest <- max.col(-d_cf, ties.method = "first")
-  gap <- d_cf[cbind(seq_along(nearest), nearest)]
+  near <- nearest_rows(xc, xf)
+  nearest <- near$index
+  gap <- near$gap
   matched <- gap <= tol
   extra_key <- row_keys(xc[!matched, , drop = FALSE])
   period <- nearest
@@ -45,6 +40,43 @@ grid_layout <- function(xf, xc, tc, tol = 0) {
   list(n = n, n_x = nrow(x), mt = mt, x = x, field = field, index = index,
        design = tc[index[1, ], , drop = FALSE], period = period,
        max_diff = max(c(0, gap[matched])))
+}
+
+# The largest absolute difference over the columns of every row of `a`
+# with every row of `b`.
+max_abs_dist <- function(a, b) {
+  Reduce(pmax, lapply(seq_len(ncol(a)), function(k) abs(outer(a[, k], b[, k], "-"))))
+}
+
+# Whether two rows of `x` lie within `tol` of each other in every column:
+# along the first column sorted, each row against those within `tol` there
+# (never all pairs: a year of hours is 8,760 rows).
+has_near_rows <- function(x, tol) {
+  s <- x[order(x[, 1]), , drop = FALSE]
+  upper <- findInterval(s[, 1] + tol, s[, 1])
+  for (i in which(upper > seq_len(nrow(s)))) {
+    if (any(max_abs_dist(s[i, , drop = FALSE], s[(i + 1L):upper[i], , drop = FALSE]) <= tol)) {
+      return(TRUE)
+    }
+  }
+  FALSE
+}
+
+# The nearest row of `xf` to each row of `xc` (`index`, the first of equals)
+# and its largest absolute difference (`gap`): identical rows by their
+# keys, the others in chunks of about 1e7 pairs, so that memory stays
+# bounded (runs of a year of hours against its field hours are 2e9 pairs).
+nearest_rows <- function(xc, xf) {
+  index <- match(row_keys(xc), row_keys(xf))
+  gap <- numeric(nrow(xc))
+  rest <- which(is.na(index))
+  size <- max(1L, floor(1e7 / nrow(xf)))
+  for (chunk in split(rest, ceiling(seq_along(rest) / size))) {
+    d <- max_abs_dist(xc[chunk, , drop = FALSE], xf)
+    index[chunk] <- max.col(-d, ties.method = "first")
+    gap[chunk] <- d[cbind(seq_along(chunk), index[chunk])]
+  }
+  list(index = index, gap = gap)
 }
 
 # The grid layout within `tol`; by default within rounding and, failing
@@ -106,7 +138,11 @@ match_in_order <- function(x, table) {
 # Exact keys of matrix rows (hexadecimal doubles), so that rows match only
 # when every value is identical, as Stan's equal_rows() requires.
 row_keys <- function(x) {
-  apply(x, 1, function(r) paste(sprintf("%a", r), collapse = " "))
+  x <- as.matrix(x)
+  if (nrow(x) == 0L) {
+    return(character(0))
+  }
+  do.call(paste, lapply(seq_len(ncol(x)), function(k) sprintf("%a", x[, k])))
 }
 
 # The group of each matrix row, numbered in order of first appearance: rows

@@ -148,6 +148,14 @@
 #'   (`bench/RESULTS.md`, "Gradient cost"). To speed up such fits, link R to
 #'   OpenBLAS, its serial build since the chains already share the cores
 #'   (on Debian or Ubuntu, `apt install libopenblas0-serial`).
+#'
+#'   The cost grows with the cube of the rows and the memory with their
+#'   square: a fit whose matrices would not fit in the memory available
+#'   (the chains that run at once each hold theirs), or that would sample
+#'   for more than `getOption("bayesbem.max_hours", 24)` hours per chain at
+#'   the measured cost per gradient, is refused before anything runs
+#'   (class `bayesbem_error_too_large`), saying what it would need: a year
+#'   of hourly data is, a year of daily data is not.
 #'   A fit of more than 120 field rows on Eigen says so, once per session.
 #'   `options(bayesbem.lapack = TRUE)` or `FALSE` overrides the choice, and
 #'   `fit$settings$lapack` records it: the two give the same log density to
@@ -209,6 +217,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   control <- merge_control(control, defaults$control)
   minor_modes <- match_choice(minor_modes)
   inform_blas(largest_output(data), lapack, modular || structure == "grid")
+  check_fit_size(fit_size(data, structure, modular), min(cores, chains))
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                   cores = min(cores, chains), control = control, args = list(...),
@@ -327,10 +336,12 @@ default_path <- function(data) {
   sprintf("the grid likelihood in two stages, the %s emulator", emulator)
 }
 
-# What a fit on the dense likelihood costs: seconds per gradient per
-# cubed row, and the gradients of a default fit (bench/RESULTS.md,
-# "Scaling", where both are measured).
-dense_cost <- c(seconds_per_cubed_row = 1.2e-9, gradients = 7e4)
+# What a fit costs: seconds per gradient per cubed row of the matrix it
+# factors, by likelihood (bench/RESULTS.md: "Scaling" for the dense one,
+# "Gradient cost" at n = 365 for the joint grid's field block and stage
+# 2's), and the gradients of a default fit ("Scaling").
+fit_cost <- list(seconds_per_cubed_row = c(dense = 1.2e-9, grid = 6.7e-10, stage2 = 1.6e-10),
+                 gradients = 7e4)
 
 # Taking the dense likelihood because the runs are not a grid is slow
 # above a few hundred rows: say why, what it costs, how to avoid it.
@@ -339,7 +350,7 @@ inform_dense <- function(data, structure, asked) {
     return(invisible())
   }
   rows <- data$n + data$m
-  seconds <- dense_cost[["gradients"]] * dense_cost[["seconds_per_cubed_row"]] * rows^3
+  seconds <- fit_cost$gradients * fit_cost$seconds_per_cubed_row[["dense"]] * rows^3
   hours <- seconds / 3600
   if (hours < 0.1) {
     return(invisible())
@@ -347,6 +358,56 @@ inform_dense <- function(data, structure, asked) {
   cli::cli_inform(c("!" = "The runs are not at every field input, so {.fn calibrate} uses the dense likelihood: a {rows} x {rows} factor per gradient, about {signif(hours, 1)} hour{?s} of sampling per chain.",
                     i = "Run every setting at the field inputs (a simulator of the field's periods in {.fn simulate_design}) for the grid likelihood, seconds to minutes; {.fn koh_data} matches inputs within 5% of their range."),
                   class = "bayesbem_message_dense")
+}
+
+# What one chain's likelihood holds and costs: `bytes`, the matrices of a
+# gradient (the n x n ones the field rows' covariance needs, or for the
+# dense likelihood the (n + m)^2 covariance of field and runs, whose Stan
+# autodiff keeps about 64 bytes per element, and its squared distances,
+# p + q + 4 doubles per pair), and `hours` of sampling (fit_cost).
+fit_size <- function(data, structure, modular) {
+  n <- vapply(output_data(data), `[[`, integer(1), "n")
+  if (structure == "dense") {
+    rows <- data$n + data$m
+    bytes <- (64 + 8 * (data$p + data$q + 4)) * rows^2
+  } else {
+    rows <- n
+    n_x <- vapply(output_data(data), function(d) d$grid$n_x, integer(1))
+    # field block: data, kernel, covariance and its inverse; joint grid: Kx too
+    bytes <- sum(8 * 6 * n^2) + if (modular) 0 else sum((64 + 8 * (data$p + 2)) * n_x^2)
+  }
+  path <- if (structure == "dense") "dense" else if (modular) "stage2" else "grid"
+  seconds <- fit_cost$gradients * fit_cost$seconds_per_cubed_row[[path]] * sum(rows^3)
+  list(bytes = bytes, hours = seconds / 3600, rows = max(rows))
+}
+
+# A fit that cannot fit in memory, or would sample for longer than
+# `getOption("bayesbem.max_hours", 24)` per chain, is refused before
+# anything runs, saying what it would need and what to do. `parallel`:
+# the chains run at once, each holding its own matrices.
+check_fit_size <- function(size, parallel, available = available_memory(),
+                           call = rlang::caller_env()) {
+  max_hours <- getOption("bayesbem.max_hours", 24)
+  needed <- size$bytes * parallel
+  memory_ok <- is.na(available) || needed <= 0.8 * available
+  if (memory_ok && size$hours <= max_hours) {
+    return(invisible())
+  }
+  gb <- function(b) format(signif(b / 2^30, 2))
+  abort_bayesbem(c("This fit is too large to run here: its likelihood factors a {size$rows} x {size$rows} matrix per gradient.",
+                   x = "It would need about {gb(needed)} GB of memory ({parallel} chain{?s} at once){if (!is.na(available)) paste0(', of ', gb(available), ' GB available')} and about {format(signif(size$hours, 2))} hours of sampling per chain (limit {max_hours}: {.code options(bayesbem.max_hours = )}).",
+                   i = "Calibrate on fewer rows: daily or weekly sums ({.code bem_simulator(by = \"day\")}), or a few weeks of the periods; run fewer chains at once ({.arg cores})."),
+                 "too_large", call = call)
+}
+
+# The memory the system has available (bytes), NA where unknown.
+available_memory <- function() {
+  info <- tryCatch(readLines("/proc/meminfo", warn = FALSE), error = function(e) character(0))
+  line <- grep("^MemAvailable:", info, value = TRUE)
+  if (length(line) == 0L) {
+    return(NA_real_)
+  }
+  as.numeric(gsub("[^0-9]", "", line)) * 1024
 }
 
 # emulator = "auto": the basis emulator for a modular fit of more than 36

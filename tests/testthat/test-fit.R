@@ -286,3 +286,35 @@ test_that("three years of bills with 30 runs converge with the defaults (a seede
     expect_true(problem$truth[[p]] >= q[[1]] && problem$truth[[p]] <= q[[2]], label = p)
   }
 })
+
+test_that("a fit too large for the machine's memory or time is refused before it runs", {
+  small <- bayesbem:::fit_size(koh_data(seb_field, seb_sim), "grid", TRUE)
+  expect_lt(small$hours, 0.01)
+  expect_null(bayesbem:::check_fit_size(small, 4, available = 2^30))
+  # memory: 4 chains of 1 GB against 3 GB available
+  big <- list(bytes = 2^30, hours = 1, rows = 4000)
+  expect_error(bayesbem:::check_fit_size(big, 4, available = 3 * 2^30),
+               class = "bayesbem_error_too_large")
+  expect_null(bayesbem:::check_fit_size(big, 2, available = 3 * 2^30))
+  # time: over bayesbem.max_hours
+  slow <- list(bytes = 2^31, hours = 30, rows = 1095)
+  expect_snapshot(bayesbem:::check_fit_size(slow, 2, available = NA), error = TRUE)
+  withr::local_options(bayesbem.max_hours = 48)
+  expect_null(bayesbem:::check_fit_size(slow, 2, available = NA))
+})
+
+test_that("a year of hourly rows is prepared in bounded memory and refused up front", {
+  skip_on_cran()
+  withr::local_seed(9)
+  hours <- 8760
+  x <- data.frame(temp = round(stats::rnorm(hours, 10, 8), 1), hour = rep(0:23, 365),
+                  day = rep(seq_len(365), each = 24))
+  design <- data.frame(k = stats::runif(30, 1, 2))
+  sim <- do.call(rbind, lapply(design$k, function(k) data.frame(eta = k * x$temp + x$hour, x, k = k)))
+  field <- data.frame(y = 1.5 * x$temp + x$hour + stats::rnorm(hours), x)
+  d <- koh_data(field, sim)
+  expect_equal(c(d$grid$n, d$grid$mt), c(hours, 30))
+  size <- bayesbem:::fit_size(d, "grid", TRUE)
+  expect_gt(size$hours, 1000)
+  expect_error(calibrate(d, chains = 2, seed = 1), class = "bayesbem_error_too_large")
+})
