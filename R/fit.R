@@ -217,7 +217,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   control <- merge_control(control, defaults$control)
   minor_modes <- match_choice(minor_modes)
   inform_blas(largest_output(data), lapack, modular || structure == "grid")
-  check_fit_size(fit_size(data, structure, modular), min(cores, chains))
+  check_fit_size(fit_size(data, structure, modular, iter), min(cores, chains))
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                   cores = min(cores, chains), control = control, args = list(...),
@@ -339,9 +339,10 @@ default_path <- function(data) {
 # What a fit costs: seconds per gradient per cubed row of the matrix it
 # factors, by likelihood (bench/RESULTS.md: "Scaling" for the dense one,
 # "Gradient cost" at n = 365 for the joint grid's field block and stage
-# 2's), and the gradients of a default fit ("Scaling").
+# 2's), and gradients per iteration (7e4 in a default joint fit of 4000
+# iterations, "Scaling").
 fit_cost <- list(seconds_per_cubed_row = c(dense = 1.2e-9, grid = 6.7e-10, stage2 = 1.6e-10),
-                 gradients = 7e4)
+                 gradients_per_iteration = 17.5)
 
 # Taking the dense likelihood because the runs are not a grid is slow
 # above a few hundred rows: say why, what it costs, how to avoid it.
@@ -350,7 +351,9 @@ inform_dense <- function(data, structure, asked) {
     return(invisible())
   }
   rows <- data$n + data$m
-  seconds <- fit_cost$gradients * fit_cost$seconds_per_cubed_row[["dense"]] * rows^3
+  iterations <- default_sampling(FALSE, data$n)$iter
+  seconds <- fit_cost$gradients_per_iteration * iterations *
+    fit_cost$seconds_per_cubed_row[["dense"]] * rows^3
   hours <- seconds / 3600
   if (hours < 0.1) {
     return(invisible())
@@ -364,8 +367,9 @@ inform_dense <- function(data, structure, asked) {
 # gradient (the n x n ones the field rows' covariance needs, or for the
 # dense likelihood the (n + m)^2 covariance of field and runs, whose Stan
 # autodiff keeps about 64 bytes per element, and its squared distances,
-# p + q + 4 doubles per pair), and `hours` of sampling (fit_cost).
-fit_size <- function(data, structure, modular) {
+# p + q + 4 doubles per pair), and `hours` of sampling `iter` iterations
+# (fit_cost).
+fit_size <- function(data, structure, modular, iter) {
   n <- vapply(output_data(data), `[[`, integer(1), "n")
   if (structure == "dense") {
     rows <- data$n + data$m
@@ -377,7 +381,8 @@ fit_size <- function(data, structure, modular) {
     bytes <- sum(8 * 6 * n^2) + if (modular) 0 else sum((64 + 8 * (data$p + 2)) * n_x^2)
   }
   path <- if (structure == "dense") "dense" else if (modular) "stage2" else "grid"
-  seconds <- fit_cost$gradients * fit_cost$seconds_per_cubed_row[[path]] * sum(rows^3)
+  seconds <- fit_cost$gradients_per_iteration * iter * fit_cost$seconds_per_cubed_row[[path]] *
+    sum(rows^3)
   list(bytes = bytes, hours = seconds / 3600, rows = max(rows))
 }
 

@@ -288,7 +288,7 @@ test_that("three years of bills with 30 runs converge with the defaults (a seede
 })
 
 test_that("a fit too large for the machine's memory or time is refused before it runs", {
-  small <- bayesbem:::fit_size(koh_data(seb_field, seb_sim), "grid", TRUE)
+  small <- bayesbem:::fit_size(koh_data(seb_field, seb_sim), "grid", TRUE, 2000)
   expect_lt(small$hours, 0.01)
   expect_null(bayesbem:::check_fit_size(small, 4, available = 2^30))
   # memory: 4 chains of 1 GB against 3 GB available
@@ -314,7 +314,9 @@ test_that("a year of hourly rows is prepared in bounded memory and refused up fr
   field <- data.frame(y = 1.5 * x$temp + x$hour + stats::rnorm(hours), x)
   d <- koh_data(field, sim)
   expect_equal(c(d$grid$n, d$grid$mt), c(hours, 30))
-  size <- bayesbem:::fit_size(d, "grid", TRUE)
-  expect_gt(size$hours, 1000)
+  size <- bayesbem:::fit_size(d, "grid", TRUE, 2000)
+  expect_gt(size$hours, 500)
+  # the hours follow the iterations asked for
+  expect_equal(bayesbem:::fit_size(d, "grid", TRUE, 500)$hours, size$hours / 4)
   expect_error(calibrate(d, chains = 2, seed = 1), class = "bayesbem_error_too_large")
 })
