@@ -28,8 +28,11 @@
 #'   [explain_discrepancy()] names them ("temp > 11.8",
 #'   a step: 1 above, 0 below; "occupancy, where temp > 14.9", occupancy
 #'   there and 0 elsewhere; any threshold can be given), added as columns
-#'   `temp>11.8` and `occupancy:temp>14.9`. [predict()] computes these
-#'   columns from `newdata`'s own columns when it lacks them.
+#'   `temp>11.8` and `occupancy:temp>14.9`, or hinges, "max(temp - 18, 0)"
+#'   (a load growing with temperature above 18, a cooling balance point)
+#'   and "max(12 - temp, 0)" (growing as it falls below 12), added as
+#'   `max(temp-18,0)`. [predict()] computes these columns from `newdata`'s
+#'   own columns when it lacks them.
 #' @param covariates A data frame with one row per field row (in the field
 #'   data's order).
 #' @param sim A new simulation table, in the layout of [koh_data()] (by
@@ -113,8 +116,8 @@ extension_covariates <- function(data, with, covariates, call = rlang::caller_en
   }
   unknown <- setdiff(with, names(pool))
   if (length(unknown) > 0L) {
-    abort_bayesbem(c("{.arg with} names {.field {unknown}}, neither an observable input, a column of {.arg covariates} nor a region of them.",
-                     i = "Available: {.field {names(pool)}}, and regions of them as {.fn explain_discrepancy} names them, e.g. {.val {names(pool)[1]} > 10} or {.val {names(pool)[2]}, where {names(pool)[1]} < 10}."),
+    abort_bayesbem(c("{.arg with} names {.field {unknown}}, neither an observable input, a column of {.arg covariates} nor a region or hinge of them.",
+                     i = "Available: {.field {names(pool)}}, and regions and hinges of them, e.g. {.val {names(pool)[1]} > 10}, {.val {names(pool)[2]}, where {names(pool)[1]} < 10} or {.val max({names(pool)[1]} - 10, 0)}."),
                    "columns", call = call)
   }
   old <- data$covariates

@@ -1,6 +1,7 @@
-# The grammar of region terms ("b > c", "a, where b < c"), shared by
-# explain_discrepancy() that names them, extend() that adds them and
-# predict() that computes them from new data.
+# The grammar of region terms ("b > c", "a, where b < c") and hinges
+# ("max(x - c, 0)", "max(c - x, 0)"), shared by explain_discrepancy() that
+# names them, extend() that adds them and predict() that computes them
+# from new data.
 
 # A region's name: "b > c" for a step (effect ""), "a, where b < c".
 region_label <- function(effect, input, side, cut) {
@@ -15,6 +16,10 @@ region_label <- function(effect, input, side, cut) {
 # where b > c. NULL when `name` is no such name or names columns `table`
 # lacks.
 region_values <- function(name, table) {
+  hinge <- parse_hinge(name)
+  if (!is.null(hinge)) {
+    return(if (hinge$input %in% names(table)) hinge_values(hinge, table[[hinge$input]]))
+  }
   parts <- parse_region(name)
   if (is.null(parts) || !all(setdiff(c(parts$effect, parts$input), "") %in% names(table))) {
     return(NULL)
@@ -36,9 +41,39 @@ parse_region <- function(name) {
   list(effect = parts[2], input = parts[3], side = parts[4], cut = cut)
 }
 
-# The candidates a term is made of: a region's effect and input, or the
-# candidate itself.
+# A hinge's name split into its `input`, `side` and `cut` (spaces
+# ignored): "max(x - c, 0)" rises with x above c (`side` ">"; a negative c
+# reads "max(x + 5, 0)"), "max(c - x, 0)" with falling x below c ("<").
+# NULL when `name` is no hinge.
+parse_hinge <- function(name) {
+  compact <- gsub(" ", "", name, fixed = TRUE)
+  number <- "([0-9.]+(?:[eE][+-]?[0-9]+)?)"
+  above <- regmatches(compact, regexec(paste0("^max\\(([A-Za-z._][A-Za-z0-9._]*)([+-])", number, ",0\\)$"),
+                                       compact))[[1]]
+  if (length(above) == 4L) {
+    cut <- as.numeric(above[4])
+    return(list(input = above[2], side = ">", cut = if (above[3] == "+") -cut else cut))
+  }
+  below <- regmatches(compact, regexec(paste0("^max\\((-?", substring(number, 2),
+                                              "-([A-Za-z._][A-Za-z0-9._]*),0\\)$"), compact))[[1]]
+  if (length(below) == 3L && !is.na(suppressWarnings(as.numeric(below[2])))) {
+    return(list(input = below[3], side = "<", cut = as.numeric(below[2])))
+  }
+  NULL
+}
+
+# A hinge's values at input values `x`: max(x - c, 0) or max(c - x, 0).
+hinge_values <- function(hinge, x) {
+  if (hinge$side == ">") pmax(x - hinge$cut, 0) else pmax(hinge$cut - x, 0)
+}
+
+# The candidates a term is made of: a region's effect and input, a hinge's
+# input, or the candidate itself.
 term_variables <- function(name) {
+  hinge <- parse_hinge(name)
+  if (!is.null(hinge)) {
+    return(hinge$input)
+  }
   parts <- parse_region(name)
   if (is.null(parts)) name else setdiff(c(parts$effect, parts$input), "")
 }

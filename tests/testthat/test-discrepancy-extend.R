@@ -64,6 +64,24 @@ test_that("a region named by explain_discrepancy() becomes a covariate in its ow
                class = "bayesbem_error_columns")
 })
 
+test_that("a hinge becomes a covariate in its input's units, and its name defines it", {
+  d <- seb_fit$data
+  temp <- d$field$temp
+  terms <- bayesbem:::extension_covariates(d, c("max(temp - 12, 0)", "max(5 - temp, 0)",
+                                                "max(temp + 2.5, 0)"), NULL)
+  expect_named(terms, c("max(temp-12,0)", "max(5-temp,0)", "max(temp+2.5,0)"))
+  expect_equal(terms[[1]], pmax(temp - 12, 0))
+  expect_equal(terms[[2]], pmax(5 - temp, 0))
+  expect_equal(terms[[3]], pmax(temp + 2.5, 0))
+  # the column name rebuilds the same values (predict() from newdata)
+  new <- data.frame(temp = c(-3, 8, 30))
+  expect_equal(bayesbem:::region_values("max(temp-12,0)", new), c(0, 0, 18))
+  expect_equal(bayesbem:::term_variables("max(5 - temp, 0)"), "temp")
+  expect_null(bayesbem:::parse_hinge("max(temp, 0)"))
+  expect_error(bayesbem:::extension_covariates(d, "max(people - 3, 0)", NULL),
+               class = "bayesbem_error_columns")
+})
+
 test_that("region thresholds split as the quantiles do, and their names define them", {
   x <- c(0.1, 1.06, 1.7, 3.9, 4.4, 6.1, 8.9, 10.3, 10.3, 12.1, 14.12, 15.4, 18.8, 21.4, 22.3,
          22.6, 23.2, 23.8)
