@@ -128,11 +128,15 @@ field_runs <- function(data) {
 # and of a fit match by value, whatever rounding their inputs went through.
 value_keys <- function(x) row_keys(signif(as.matrix(x), 6))
 
+# Each element's occurrence among the equal ones before it: 1, 2, ...
+nth_occurrence <- function(v) {
+  stats::ave(seq_along(v), v, FUN = seq_along)
+}
+
 # match() that pairs repeated keys in order: the k-th element of `x` with a
 # key takes the k-th row of `table` with it (periods sharing their inputs).
 match_in_order <- function(x, table) {
-  nth <- function(v) stats::ave(seq_along(v), v, FUN = seq_along)
-  match(paste(x, nth(x)), paste(table, nth(table)))
+  match(paste(x, nth_occurrence(x)), paste(table, nth_occurrence(table)))
 }
 
 # Exact keys of matrix rows (hexadecimal doubles), so that rows match only

@@ -290,27 +290,27 @@ check_has_columns <- function(d, cols, arg, call) {
 # than the field's periods there are a run repeated, an error: two rows
 # with the same inputs and parameters make the emulator singular.
 shared_input_runs <- function(sim, cols, xf, call = rlang::caller_env()) {
-  key <- row_keys(as.matrix(sim[c(cols$x_sim, cols$t)]))
-  times <- stats::ave(seq_along(key), key, FUN = seq_along)
-  periods <- as.vector(table(row_keys(xf))[row_keys(as.matrix(sim[cols$x_sim]))])
+  group <- row_groups(as.matrix(sim[c(cols$x_sim, cols$t)]))
+  times <- nth_occurrence(group)
+  field_keys <- row_keys(xf)
+  periods <- as.vector(table(field_keys)[row_keys(as.matrix(sim[cols$x_sim]))])
   dup <- which(times > ifelse(is.na(periods), 1L, periods))
   if (length(dup) > 0L) {
-    first <- which(key %in% key[dup] & times == 1L)
+    first <- which(group %in% group[dup] & times == 1L)
     abort_bayesbem(c("{.arg sim} has {length(dup)} duplicated row{?s} (same inputs and parameters, more than the field periods sharing those inputs): {.val {dup}}.",
                      i = "Average the outputs of repeated runs, or drop the repeats (rows repeated: {.val {first}})."),
                    "duplicated", call = call)
   }
-  if (!anyDuplicated(key)) {
+  if (!anyDuplicated(group)) {
     return(sim)
   }
-  group <- match(key, unique(key))
   eta <- sim[[cols$eta]]
   spread <- max(tapply(eta, group, function(e) diff(range(e)))) / stats::sd(eta)
-  shared <- which(duplicated(row_keys(xf)))
+  shared <- which(duplicated(field_keys))
   cli::cli_inform(c(i = "{length(shared)} field period{?s} share{?s/} {?its/their} inputs with an earlier one (row{?s} {shared}): each run's outputs at those periods are averaged, the emulator's one output per input.",
                     " " = "They differ by up to {signif(100 * spread, 2)}% of the runs' sd; if that matters, add an input that tells such periods apart (e.g. the previous day's mean temperature)."),
                   class = "bayesbem_message_shared_inputs")
-  merged <- sim[!duplicated(key), , drop = FALSE]
+  merged <- sim[!duplicated(group), , drop = FALSE]
   merged[[cols$eta]] <- as.vector(tapply(eta, group, mean))
   merged
 }
