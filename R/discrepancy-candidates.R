@@ -1,6 +1,6 @@
 # The candidate causes explain_discrepancy() scores: the inputs and
-# covariates, their regions (steps and one-sided effects at quantile cuts)
-# and a named region's cut refined to the data's gap.
+# covariates, their regions (steps, hinges and region-specific lines at
+# quantile cuts) and a named region's cut refined to the data's gap.
 
 # The observable inputs and the covariates, checked.
 explanation_candidates <- function(data, covariates, call = rlang::caller_env()) {
@@ -30,21 +30,26 @@ main_terms <- function(candidates) {
 
 # Effects that act in part of an input's range, at the thresholds `c` of
 # each observable input `b` (region_cuts()): a step where b passes c, "b >
-# c", and for each other candidate `a`, its effect only on one side, "a,
-# where b < c" (a there, 0 elsewhere: not centred, so a gain that only acts
-# there, such as solar gains in cold months, is one term). Each term is
-# computed from its name by region_values(), in the units of `a`, so that
-# extend() and predict() rebuild it from the name alone.
+# c"; hinges, "max(b - c, 0)" and "max(c - b, 0)" (a load growing past a
+# balance point); and for each other candidate `a`, a line only on one
+# side, "a, where b < c" (offset and slope of a there, 0 elsewhere: a
+# latent load that grows with humidity once the building cools, solar
+# gains only in cold months). Each term is computed from its name by
+# term_columns(), in the units of `a`, so that extend() and predict()
+# rebuild it from the name alone.
 region_terms <- function(candidates, inputs) {
   labels <- unlist(lapply(names(inputs), function(b) {
     lapply(region_cuts(inputs[[b]]), function(cut) {
       others <- setdiff(names(candidates), b)
-      c(region_label("", b, ">", cut),
+      c(region_label("", b, ">", cut), hinge_label(b, c(">", "<"), cut),
         region_label(rep(others, 2), b, rep(c("<", ">"), each = length(others)), cut))
     })
   }))
-  stats::setNames(lapply(labels, function(l) cbind(region_values(l, candidates))), labels)
+  stats::setNames(lapply(labels, term_matrix, table = candidates), labels)
 }
+
+# A term's columns (term_columns()) as a matrix.
+term_matrix <- function(name, table) do.call(cbind, unname(term_columns(name, table)))
 
 # The thresholds of one input: at each quartile, tertile and median, the
 # shortest decimal that splits the values as the quantile does (so that a
@@ -73,16 +78,17 @@ supported_cuts <- function(x, cuts) {
   cuts[vapply(cuts, function(cut) min(sum(x > cut), sum(x <= cut)) >= 5L, logical(1))]
 }
 
-# A named region with its cut moved to where the data put the edge: the
-# candidate cuts are a coarse grid (few terms keep the test's power), and
-# an effect's edge usually lies between them, so that the grid's cut
-# leaves some rows on the wrong side. Among the splits between consecutive
-# values of the input (short_cut()) from half-way to the grid's lower
-# neighbour to half-way to its upper one (so no two grid cuts refine to
-# the same), the one whose term explains the most of the residual beyond
-# recalibration (`free`, made orthogonal to `nuisance`).
+# A named region or hinge with its cut moved to where the data put the
+# edge: the candidate cuts are a coarse grid (few terms keep the test's
+# power), and an effect's edge usually lies between them, so that the
+# grid's cut leaves some rows on the wrong side. Among the splits between
+# consecutive values of the input (short_cut()) from half-way to the
+# grid's lower neighbour to half-way to its upper one (so no two grid cuts
+# refine to the same), the one whose term explains the most of the
+# residual beyond recalibration (`free`, made orthogonal to `nuisance`).
 refine_region <- function(name, candidates, free, nuisance) {
-  parts <- parse_region(name)
+  hinge <- parse_hinge(name)
+  parts <- hinge %||% parse_region(name)
   x <- candidates[[parts$input]]
   grid <- region_cuts(x)
   below <- max(c(-Inf, grid[grid < parts$cut]))
@@ -93,8 +99,40 @@ refine_region <- function(name, candidates, free, nuisance) {
   if (length(cuts) < 2L) {
     return(name)
   }
-  labels <- region_label(parts$effect, parts$input, parts$side, cuts)
-  explained <- vapply(labels, function(l) free_r_squared(region_values(l, candidates), free, nuisance),
+  labels <- if (is.null(hinge)) region_label(parts$effect, parts$input, parts$side, cuts) else
+    hinge_label(parts$input, parts$side, cuts)
+  explained <- vapply(labels, function(l) partial_r_squared(term_matrix(l, candidates), free, nuisance),
                       numeric(1))
   labels[which.max(explained)]
+}
+
+# A named region-specific line ("a, where b > c") or, where its effect adds
+# nothing beyond chance to its region's step, that step ("b > c", its cut
+# refined on its own). A line holds its step, so it always explains at
+# least as much, and the share alone would always prefer it. Its effect
+# column is tested given the step and recalibration (`basis`): the R^2 of
+# the posterior mean residual by it against the null residuals', adjusted
+# over every candidate's line in that region by the max statistic (the
+# line was chosen among them), at `alpha`. Other terms are returned as
+# they are.
+simplest_region <- function(name, candidates, basis, mean_residual, null, alpha) {
+  parts <- parse_region(name)
+  if (is.null(parts) || !nzchar(parts$effect)) {
+    return(name)
+  }
+  step <- region_label("", parts$input, ">", parts$cut)
+  nuisance <- qr(cbind(basis, region_values(step, candidates)))
+  free <- qr.resid(nuisance, mean_residual)
+  null_free <- qr.resid(nuisance, null)
+  others <- setdiff(names(candidates), parts$input)
+  lines <- unique(c(name, region_label(rep(others, 2), parts$input,
+                                      rep(c("<", ">"), each = length(others)), parts$cut)))
+  chances <- lapply(lines, function(l) {
+    chance_z(region_values(l, candidates), free, null_free, nuisance)
+  })
+  null_max <- do.call(pmax, lapply(chances, `[[`, "null_z"))
+  if ((1 + sum(null_max >= chances[[1]]$z)) / (length(null_max) + 1) < alpha) {
+    return(name)
+  }
+  refine_region(step, candidates, qr.resid(qr(basis), mean_residual), qr(basis))
 }

@@ -12,8 +12,11 @@
 #' for two-valued candidates such as a step at a date). With `regions =
 #' TRUE` (the default), effects that act in part of the input space are
 #' candidates too, at each quartile, tertile and median of each observable input: a step
-#' where the input passes it ("rh > 47"), and each other candidate's effect
-#' only on one side of it ("solar, where temp < 4.9").
+#' where the input passes it ("rh > 47"), hinges that grow past it ("max(temp
+#' - 18, 0)", a balance point; "max(12 - temp, 0)"), and each other
+#' candidate's line (offset and slope) only on one side of it ("rh, where
+#' temp > 15": a latent load that grows with humidity once the building
+#' cools).
 
 #' Part of any residual is not the simulator's fault: calibration parameters
 #' that are off move the output along the simulator's own sensitivities
@@ -47,7 +50,9 @@
 #' run is predicted from the others (leave one run out), so an
 #' overconfident emulator does not raise alarms. Unlike shuffling the candidate,
 #' this keeps the smoothness along the inputs that the emulator's error has.
-#' Each candidate's excess over its null is standardised (`z`), and the
+#' Each candidate's partial R^2 is put on one scale as a normal score
+#' under its null (`z`, through the Beta distribution with the null's mean
+#' and variance, so that terms of one and two columns compare), and the
 #' p-values are adjusted for all candidates at once by the max-statistic
 #' method of Westfall and Young: a candidate's adjusted p-value is the share
 #' of null residuals in which some candidate reaches its `z`. With regions,
@@ -61,13 +66,17 @@
 #' the fraction by which adding it to the recalibration directions reduces
 #' the leave-one-out error of the posterior mean residual, is positive (a
 #' term that fits a few rows or the noise makes that error larger). The
-#' cut of a named region is then moved to where the data put the effect's
+#' cut of a named region or hinge is then moved to where the data put the effect's
 #' edge: the candidate cuts are a coarse grid (few terms keep the test's
 #' power), so among the splits between consecutive field values of the
 #' input around the tested cut (up to half-way to the next candidate cuts),
 #' the one whose term explains the most of the posterior mean residual is
 #' named; its `share` and `cv_gain` are the refined term's, `z` and
-#' `p_value` the tested cut's. The
+#' `p_value` the tested cut's. A line holds its region's step, so it always
+#' explains at least as much: a named line keeps its name only when its
+#' slope explains more beyond the step than chance does (the largest of
+#' every candidate's line in that region against the null residuals, at
+#' `alpha`), and is named as the step otherwise. The
 #' verdict names the explaining candidate with the largest share, or says
 #' that none explains it: for a correct simulator, that happens in about
 #' `1 - alpha` of data sets (measured in `bench/bench-false-alarms.R` and
@@ -158,13 +167,15 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   baseline <- press(basis, mean_residual)
   out$cv_gain <- vapply(terms, function(b) cv_gain(mean_residual, basis, b, baseline), numeric(1))
   out$explains <- out$p_value < alpha & out$cv_gain > 0
-  # named regions get the cut the data put the edge at; the test stands
-  # (p_value and z are the grid cut's), the rest is the refined term's
+  # named regions get the cut the data put the edge at, and a line whose
+  # slope adds nothing to its step is named as the step; the test stands
+  # (p_value and z are the grid term's), the rest is the named term's
   free <- qr.resid(nuisance, mean_residual)
   for (i in which(out$explains & family == "region")) {
-    label <- refine_region(out$candidate[i], candidates, free, nuisance)
+    label <- simplest_region(refine_region(out$candidate[i], candidates, free, nuisance),
+                             candidates, basis, mean_residual, null, alpha)
     if (label == out$candidate[i]) next
-    terms[[i]] <- cbind(region_values(label, candidates))
+    terms[[i]] <- term_matrix(label, candidates)
     names(terms)[i] <- out$candidate[i] <- label
     scores[[i]] <- term_scores(terms[[i]], residual, nuisance, null, level, blocks)
     out[i, c("share", "lower", "upper")] <- scores[[i]]$summary[c("share", "lower", "upper")]
@@ -172,6 +183,8 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
     out$explains[i] <- out$cv_gain[i] > 0
   }
   out <- out[order(!out$explains, -out$share), ]
+  # a line named as its step can repeat the step (the same term)
+  out <- out[!duplicated(out$candidate), ]
   rownames(out) <- NULL
   shares <- stats::setNames(lapply(scores, `[[`, "shares"), names(terms))
   ambiguous <- ambiguous_with(out, terms, shares, free, nuisance)
@@ -192,7 +205,7 @@ ambiguous_with <- function(x, terms, shares, free, nuisance) {
   if (length(named) < 2L) {
     return(character(0))
   }
-  r2 <- function(names) free_r_squared(do.call(cbind, unname(terms[names])), free, nuisance)
+  r2 <- function(names) partial_r_squared(do.call(cbind, unname(terms[names])), free, nuisance)
   nested <- function(a, b) {
     all(term_variables(a) %in% term_variables(b)) || all(term_variables(b) %in% term_variables(a))
   }
@@ -232,7 +245,7 @@ print.bayesbem_explanation <- function(x, digits = 3, ...) {
   rlang::check_dots_empty()
   cat(attr(x, "verdict"), "\n\n")
   # every candidate, and of the regions those named and the next three
-  region <- grepl(", where | [<>] ", x$candidate)
+  region <- grepl(", where | [<>] |^max\\(", x$candidate)
   shown <- !region | x$explains | cumsum(region & !x$explains) <= 3 & region
   print_rounded(as.data.frame(unclass(x))[shown, ], digits)
   if (any(!shown)) cat(sprintf("(%d more regions, none beyond chance)\n", sum(!shown)))

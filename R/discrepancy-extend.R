@@ -26,13 +26,14 @@
 #' @param with Names of the covariates to add as discrepancy terms: columns
 #'   of `covariates`, observable inputs of the fit, or regions of them as
 #'   [explain_discrepancy()] names them ("temp > 11.8",
-#'   a step: 1 above, 0 below; "occupancy, where temp > 14.9", occupancy
-#'   there and 0 elsewhere; any threshold can be given), added as columns
-#'   `temp>11.8` and `occupancy:temp>14.9`, or hinges, "max(temp - 18, 0)"
-#'   (a load growing with temperature above 18, a cooling balance point)
-#'   and "max(12 - temp, 0)" (growing as it falls below 12), added as
-#'   `max(temp-18,0)`. [predict()] computes these columns from `newdata`'s
-#'   own columns when it lacks them.
+#'   a step: 1 above, 0 below, added as column `temp>11.8`; "occupancy,
+#'   where temp > 14.9", a line in occupancy there and 0 elsewhere, added
+#'   as two columns, the step `temp>14.9` and `occupancy:temp>14.9`,
+#'   occupancy there; any threshold can be given), or hinges, "max(temp -
+#'   18, 0)" (a load growing with temperature above 18, a cooling balance
+#'   point) and "max(12 - temp, 0)" (growing as it falls below 12), added
+#'   as `max(temp-18,0)`. [predict()] computes these columns from
+#'   `newdata`'s own columns when it lacks them.
 #' @param covariates A data frame with one row per field row (in the field
 #'   data's order).
 #' @param sim A new simulation table, in the layout of [koh_data()] (by
@@ -109,11 +110,12 @@ extension_covariates <- function(data, with, covariates, call = rlang::caller_en
     pool <- cbind(pool, covariates[setdiff(names(covariates), names(pool))])
   }
   for (name in setdiff(with, names(pool))) {
-    values <- region_values(name, pool)
-    if (is.null(values)) next
-    pool[[region_column_name(name)]] <- values
-    with[with == name] <- region_column_name(name)
+    columns <- term_columns(name, pool)
+    if (is.null(columns)) next
+    pool[names(columns)] <- columns
+    with <- append(with[with != name], names(columns), after = match(name, with) - 1L)
   }
+  with <- unique(with)
   unknown <- setdiff(with, names(pool))
   if (length(unknown) > 0L) {
     abort_bayesbem(c("{.arg with} names {.field {unknown}}, neither an observable input, a column of {.arg covariates} nor a region or hinge of them.",

@@ -1,6 +1,6 @@
 # What chance and recalibration produce (explain_discrepancy()): the
 # residual given the runs, the null residuals simulated from the fitted
-# model, the recalibration basis projected out, each term's standardised
+# model, the recalibration basis projected out, each term's normal
 # score, the max-statistic p-values and the cross-validated gain.
 
 # For one draw: the field outputs' residual from the emulator's mean given
@@ -74,32 +74,56 @@ recalibration_basis <- function(eta, tf) {
 # Share of the residual variance a term explains beyond recalibration
 # (partial R^2 given the QR-decomposed `nuisance` basis): per draw (rows of
 # `residual`), summarised by their mean, with the interval of
-# share_interval() over the `blocks` of periods (jackknife_blocks()); for
-# the posterior mean residual against the simulated null residuals
-# (columns of `null`), the standardised excess `z` = (R^2 - null mean) /
-# null sd, and the null residuals' own standardised values (for the
-# max-statistic adjustment).
+# share_interval() over the `blocks` of periods (jackknife_blocks()); and
+# the term's standing against chance (chance_z()).
 term_scores <- function(b, residual, nuisance, null, level, blocks) {
-  r_squared <- function(r, q = nuisance, columns = b) {
-    free_b <- qr.resid(q, columns)
-    # a column inside the recalibration span is all rounding error: drop it
-    free_b <- free_b[, sqrt(colSums(free_b^2)) > 1e-8 * sqrt(colSums(columns^2)), drop = FALSE]
-    if (ncol(free_b) == 0L) {
-      return(rep(0, NCOL(r)))
-    }
-    fitted <- qr.fitted(qr(free_b), r)
-    colSums(as.matrix(fitted)^2) / colSums(as.matrix(r)^2)
-  }
   free <- qr.resid(nuisance, t(residual))
-  shares <- r_squared(free)
-  reference <- r_squared(qr.resid(nuisance, null))
-  spread <- max(stats::sd(reference), .Machine$double.eps)
-  z <- (r_squared(rowMeans(free)) - mean(reference)) / spread
-  left_out <- vapply(blocks, function(k) r_squared(k$free, k$nuisance, b[k$rows, , drop = FALSE]),
-                     numeric(1))
+  shares <- partial_r_squared(b, free, nuisance)
+  chance <- chance_z(b, rowMeans(free), qr.resid(nuisance, null), nuisance)
+  left_out <- vapply(blocks, function(k) {
+    partial_r_squared(b[k$rows, , drop = FALSE], k$free, k$nuisance)
+  }, numeric(1))
   interval <- share_interval(mean(shares), left_out, level)
-  list(summary = data.frame(share = mean(shares), lower = interval[1], upper = interval[2], z = z),
-       null_z = (reference - mean(reference)) / spread, shares = shares)
+  list(summary = data.frame(share = mean(shares), lower = interval[1], upper = interval[2],
+                            z = chance$z),
+       null_z = chance$null_z, shares = shares)
+}
+
+# R^2 of each column of `r` (already orthogonal to `nuisance`) by the
+# columns of `b` made orthogonal to it too; 0 when b lies inside the
+# nuisance span (a column of rounding error only is dropped).
+partial_r_squared <- function(b, r, nuisance) {
+  b <- cbind(b)
+  free_b <- qr.resid(nuisance, b)
+  free_b <- free_b[, sqrt(colSums(free_b^2)) > 1e-8 * sqrt(colSums(b^2)), drop = FALSE]
+  if (ncol(free_b) == 0L) {
+    return(rep(0, NCOL(r)))
+  }
+  fitted <- qr.fitted(qr(free_b), r)
+  colSums(as.matrix(fitted)^2) / colSums(as.matrix(r)^2)
+}
+
+# A term's partial R^2 of the posterior mean residual (`free`) against the
+# null residuals' (`null_free`, both orthogonal to `nuisance`), as normal
+# scores: `z` = Phi^-1(F(R^2)) with F the Beta distribution of the null
+# R^2's mean and variance, and the null residuals' own scores (for the
+# max-statistic adjustment). A k-column term's R^2 of white noise is
+# exactly Beta(k / 2, (n - k) / 2); matching the moments keeps terms of one
+# and of two columns on one scale, which (R^2 - mean) / sd does not (one
+# column's tail is the heavier, so it dominates the family's maximum).
+chance_z <- function(b, free, null_free, nuisance) {
+  reference <- partial_r_squared(b, null_free, nuisance)
+  m <- mean(reference)
+  common <- m * (1 - m) / max(stats::var(reference), .Machine$double.eps) - 1
+  if (!(m > 0 && common > 0)) {
+    # a term inside the recalibration span explains nothing, data or null
+    return(list(z = 0, null_z = rep(0, length(reference))))
+  }
+  score <- function(r2) {
+    -stats::qnorm(stats::pbeta(r2, m * common, (1 - m) * common, lower.tail = FALSE, log.p = TRUE),
+                  log.p = TRUE)
+  }
+  list(z = score(partial_r_squared(b, free, nuisance)), null_z = score(reference))
 }
 
 # The posterior mean residual without each block of consecutive periods
@@ -130,13 +154,6 @@ share_interval <- function(share, left_out, level) {
   c(max(share - z * se, 0), min(share + z * se, 1))
 }
 
-# R^2 of the posterior mean residual beyond recalibration (`free`, already
-# orthogonal to `nuisance`) by the columns of `b`, made orthogonal too.
-free_r_squared <- function(b, free, nuisance) {
-  b <- qr.resid(nuisance, cbind(b))
-  sum(qr.fitted(qr(b), free)^2) / sum(free^2)
-}
-
 # Sum of squared leave-one-out errors of the least squares fit of r on the
 # columns of x; Inf when a row is fitted exactly (leverage 1).
 press <- function(x, r) {
@@ -162,7 +179,7 @@ cv_gain <- function(r, basis, b, baseline = press(basis, r)) {
 region_weights <- c(main = 0.8, region = 0.2)
 
 # Adjusted p-values: within each family of terms, the max-statistic
-# adjustment of Westfall and Young (a term's standardised R^2 `z` against
+# adjustment of Westfall and Young (a term's score `z` against
 # the largest over the family's terms in each null residual), divided by
 # the family's share of alpha (weighted Bonferroni across families), so
 # that naming terms with p < alpha keeps the family-wise error rate at

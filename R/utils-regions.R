@@ -10,11 +10,36 @@ region_label <- function(effect, input, side, cut) {
   ifelse(rep_len(nzchar(effect), length(where)), where, sprintf("%s %s %s", input, side, label))
 }
 
-# The values of a region term named as explain_discrepancy() prints it ("a,
-# where b < c", "b > c") or as a covariate column ("a:b<c", "b>c"), from the
-# columns of `table`: a where b <= c (or b > c), 0 elsewhere; a step is 1
-# where b > c. NULL when `name` is no such name or names columns `table`
-# lacks.
+# A hinge's name: "max(x - c, 0)" (side ">"; "max(x + 5, 0)" for c = -5),
+# "max(c - x, 0)" (side "<").
+hinge_label <- function(input, side, cut) {
+  n <- max(length(side), length(cut))
+  cut <- rep_len(cut, n)
+  label <- vapply(cut, format, character(1), digits = 15)
+  above <- sprintf("max(%s %s %s, 0)", input, ifelse(cut < 0, "+", "-"), sub("^-", "", label))
+  ifelse(rep_len(side == ">", n), above, sprintf("max(%s - %s, 0)", label, input))
+}
+
+# The columns a term adds to the discrepancy, named as covariate columns
+# (region_column_name()): a step "b > c" or a hinge, one column; a
+# region-specific line "a, where b > c" (a + b' a inside the region, 0
+# outside), two: the region's step "b>c" and the effect there "a:b>c", so
+# that its offset and slope are one cause. NULL as region_values().
+term_columns <- function(name, table) {
+  parts <- parse_region(name)
+  names <- region_column_name(name)
+  if (!is.null(parts) && nzchar(parts$effect)) {
+    names <- c(region_column_name(region_label("", parts$input, parts$side, parts$cut)), names)
+  }
+  columns <- lapply(stats::setNames(names, names), region_values, table = table)
+  if (any(vapply(columns, is.null, logical(1)))) NULL else columns
+}
+
+# The values of one column of a region term named as explain_discrepancy()
+# prints it or as a covariate column ("a, where b < c" or "a:b<c", "b > c"
+# or "b>c", a hinge), from the columns of `table`: a where b <= c (or b >
+# c), 0 elsewhere; a step is 1 where b > c. NULL when `name` is no such
+# name or names columns `table` lacks.
 region_values <- function(name, table) {
   hinge <- parse_hinge(name)
   if (!is.null(hinge)) {

@@ -24,6 +24,11 @@
 #   region          250 kWh where rh > 47                "rh > ..."
 #   interaction     8 kWh per % rh, where temp > 15      "rh, where temp > ..."
 #   multiplicative  10 % of the simulator's output       (no candidate names it)
+#   hinge           5 kWh per W/m2 of solar below 220 (lighting below a
+#                   daylight threshold)                  "max(... - solar, 0)"
+#   line            150 + 10 (rh - 40) kWh where temp > 15 (a latent load,
+#                   offset and slope)                    "rh, where temp > ..."
+#                   (hinge and line a thirtieth of these by day)
 #   weekend         EnergyPlus made with the plug loads on the weekday
 #                   schedule at weekends                 "weekend_days", "weekend"
 #   drift           EnergyPlus made with the cooling setpoint 2 C lower in
@@ -45,10 +50,11 @@ args <- commandArgs(trailingOnly = TRUE)
 arg <- function(k, default) if (length(args) >= k) strsplit(args[k], ",")[[1]] else default
 patterns <- c(none = NA, covariate = "^occupancy$", step = "^after_change$",
               region = "^rh > ", interaction = "^rh, where temp > ", multiplicative = "^load",
+              hinge = "^max\\([0-9.]+ - solar, 0\\)$", line = "^rh, where temp > ",
               weekend = "^weekend", drift = "^after_change")
-kind_shapes <- list(embedded = names(patterns)[1:6], degreeday = names(patterns)[1:6],
-                    eplus = c("none", "covariate", "step", "weekend", "drift"),
-                    eplus_daily = c("none", "weekend"))
+kind_shapes <- list(embedded = names(patterns)[1:8], degreeday = names(patterns)[1:8],
+                    eplus = c("none", "covariate", "step", "hinge", "line", "weekend", "drift"),
+                    eplus_daily = c("none", "hinge", "line", "weekend"))
 sims <- arg(1, names(kind_shapes))
 shapes_asked <- arg(2, names(patterns))
 span <- as.integer(strsplit(arg(3, "1-10"), "-")[[1]])
@@ -140,7 +146,7 @@ make_setting <- function(kind) {
                    data.frame(weekend_days = as.vector(tapply(weekend, format(days, "%Y-%m"), sum)))
                  }),
     eplus_daily = list(calibrated = c("equipment_power_density", "dx_cooling_cop"),
-                       held_out = seq(3, n, by = 6), noise_sd = 3, change = 92,
+                       held_out = seq(3, n, by = 6), noise_sd = 3, change = 92, scale = 1 / 30,
                        calendar = function() {
                          days <- as.Date("2013-01-01") + eplus_days - 1
                          data.frame(weekend = as.numeric(as.POSIXlt(days)$wday %in% c(0, 6)))
@@ -165,14 +171,16 @@ make_setting <- function(kind) {
 # Additive effects in the data, and the faults made inside EnergyPlus (as
 # the true values of the fault parameters).
 effects <- list(
-  none = function(d, eta) 0,
-  covariate = function(d, eta) 250 * d$occupancy,
-  step = function(d, eta) 200 * d$after_change,
-  region = function(d, eta) 250 * (d$rh > 47),
-  interaction = function(d, eta) 8 * d$rh * (d$temp > 15),
-  multiplicative = function(d, eta) 0.1 * eta,
-  weekend = function(d, eta) 0,
-  drift = function(d, eta) 0
+  none = function(d, eta, scale) 0,
+  covariate = function(d, eta, scale) 250 * d$occupancy,
+  step = function(d, eta, scale) 200 * d$after_change,
+  region = function(d, eta, scale) 250 * (d$rh > 47),
+  interaction = function(d, eta, scale) 8 * d$rh * (d$temp > 15),
+  multiplicative = function(d, eta, scale) 0.1 * eta,
+  hinge = function(d, eta, scale) scale * 5 * pmax(220 - d$solar, 0),
+  line = function(d, eta, scale) scale * (150 + 10 * (d$rh - 40)) * (d$temp > 15),
+  weekend = function(d, eta, scale) 0,
+  drift = function(d, eta, scale) 0
 )
 faults <- list(weekend = list(weekend_fault = 1), drift = list(setpoint_drift = 2))
 
@@ -184,7 +192,8 @@ make_problem <- function(st, shape, k) {
     r$parameter))
   field <- simulate_field(st$sim, c(truth, faults[[shape]]), covariates = st$covariates,
                           noise_sd = st$noise_sd, seed = k)
-  field$y <- field$y + effects[[shape]](field, attr(field, "simulated"))
+  scale <- if (is.null(st$scale)) 1 else st$scale
+  field$y <- field$y + effects[[shape]](field, attr(field, "simulated"), scale)
   base <- suppressWarnings(
     calibrate(field[-st$held_out, c("y", "temp", "rh", "solar")], st$runs, chains = 2,
               iter = 600, seed = k, cores = 2, control = list(adapt_delta = 0.9), refresh = 0),

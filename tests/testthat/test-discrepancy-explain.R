@@ -297,6 +297,12 @@ test_that("a named region's cut moves to the gap where the effect's edge is", {
     expect_true(cut > gap[1] && cut < gap[2], label = refined)
     expect_identical(bayesbem:::parse_region(refined)$effect, effect)
   }
+  # a hinge's cut moves to its kink (within 1.5 units of rh: a kink is less
+  # sharp than an edge)
+  r <- 8 * pmax(table$rh - 47, 0) + stats::rnorm(n, sd = 5)
+  refined <- bayesbem:::refine_region(bayesbem:::hinge_label("rh", ">", nearest), table,
+                                      qr.resid(nuisance, r), nuisance)
+  expect_lte(abs(bayesbem:::parse_hinge(refined)$cut - 47), 1.5)
   # inputs equal but for rounding have no split a name can state
   close <- data.frame(rh = c(1:10, 10 + 1e-14, 41:50))
   expect_false(grepl("NA", bayesbem:::refine_region("rh > 25.5", close, stats::rnorm(21),
@@ -304,4 +310,30 @@ test_that("a named region's cut moves to the gap where the effect's edge is", {
   # a cut with no other split between its neighbours stays
   expect_identical(bayesbem:::refine_region("rh > 47", data.frame(rh = c(1:5, 50:54)), 1:10,
                                             qr(matrix(1, 10))), "rh > 47")
+})
+
+test_that("a region-specific line is named only where its slope adds to its step", {
+  # 36 rows; a step of 250 where rh > 47, or a line there (100 + 300 x
+  # occupancy); null residuals of the noise's sd. The line always explains
+  # at least as much as its step: the step is named unless the slope is
+  # beyond chance.
+  withr::local_seed(4)
+  n <- 36
+  table <- data.frame(rh = round(stats::runif(n, 30, 60), 1), occupancy = stats::runif(n),
+                      temp = stats::runif(n, -5, 25))
+  null <- matrix(stats::rnorm(n * 400, sd = 5), n)
+  basis <- matrix(1, n)
+  noise <- stats::rnorm(n, sd = 5)
+  step <- 250 * (table$rh > 47) + noise
+  line <- (100 + 300 * table$occupancy) * (table$rh > 47) + noise
+  simplest <- function(name, r) bayesbem:::simplest_region(name, table, basis, r, null, 0.05)
+  for (effect in c("occupancy", "temp")) {
+    named <- simplest(paste0(effect, ", where rh > 47"), step)
+    expect_identical(bayesbem:::parse_region(named)$effect, "", label = named)
+    expect_identical(bayesbem:::term_variables(named), "rh")
+  }
+  expect_identical(simplest("occupancy, where rh > 47", line), "occupancy, where rh > 47")
+  # steps and hinges are left as they are
+  expect_identical(simplest("rh > 47", line), "rh > 47")
+  expect_identical(simplest("max(rh - 47, 0)", line), "max(rh - 47, 0)")
 })

@@ -53,12 +53,14 @@ test_that("a region named by explain_discrepancy() becomes a covariate in its ow
   d <- seb_fit$data
   temp <- d$field$temp
   occupancy <- data.frame(occupancy = seq(0.1, 1.2, by = 0.1))
+  # a line in occupancy where temp > 10 is its step there and occupancy there
   terms <- bayesbem:::extension_covariates(d, c("occupancy, where temp > 10", "temp > 10",
                                                 "occupancy:temp<10"), occupancy)
-  expect_named(terms, c("occupancy:temp>10", "temp>10", "occupancy:temp<10"))
-  expect_equal(terms[[1]], occupancy$occupancy * (temp > 10))
-  expect_equal(terms[[2]], as.numeric(temp > 10))
-  expect_equal(terms[[3]], occupancy$occupancy * (temp <= 10))
+  expect_named(terms, c("temp>10", "occupancy:temp>10", "temp<10", "occupancy:temp<10"))
+  expect_equal(terms[[1]], as.numeric(temp > 10))
+  expect_equal(terms[[2]], occupancy$occupancy * (temp > 10))
+  expect_equal(terms[[3]], as.numeric(temp <= 10))
+  expect_equal(terms[[4]], occupancy$occupancy * (temp <= 10))
   # the name must name columns there are
   expect_error(bayesbem:::extension_covariates(d, "people, where temp > 10", occupancy),
                class = "bayesbem_error_columns")
@@ -92,22 +94,33 @@ test_that("region thresholds split as the quantiles do, and their names define t
   # shortest decimals: 10.3 < 11 < 12.1 for the median 11.2, 4.4 < 5 < 6.1, ...
   expect_equal(cuts, c(5, 10, 11, 15, 20))
   terms <- bayesbem:::region_terms(data.frame(x = x, w = x^2), data.frame(x = x))
-  expect_equal(drop(terms[["w, where x > 11"]]), x^2 * (x > 11))
-  expect_equal(drop(terms[["w, where x < 11"]]), x^2 * (x <= 11))
+  # a line in w on one side: its step and w there
+  expect_equal(unname(terms[["w, where x > 11"]]), cbind(as.numeric(x > 11), x^2 * (x > 11)))
+  expect_equal(unname(terms[["w, where x < 11"]]), cbind(as.numeric(x <= 11), x^2 * (x <= 11)))
   expect_equal(drop(terms[["x > 11"]]), as.numeric(x > 11))
+  # hinges on both sides of each cut, in x's units
+  expect_equal(drop(terms[["max(x - 11, 0)"]]), pmax(x - 11, 0))
+  expect_equal(drop(terms[["max(11 - x, 0)"]]), pmax(11 - x, 0))
+  expect_length(terms, length(cuts) * 5)
+  expect_identical(bayesbem:::hinge_label("x", c(">", ">", "<"), c(11, -2.5, -2.5)),
+                   c("max(x - 11, 0)", "max(x + 2.5, 0)", "max(-2.5 - x, 0)"))
+  for (label in c("max(x + 2.5, 0)", "max(-2.5 - x, 0)")) {
+    expect_equal(bayesbem:::parse_hinge(label)$cut, -2.5)
+  }
 })
 
 test_that("an extension by a region predicts from the inputs it names", {
   skip_on_cran()
   case <- synthetic_case("interaction")
   ext <- synthetic_extension("interaction", "occupancy, where temp > 15")
-  expect_equal(names(ext$data$covariates), "occupancy:temp>15")
+  expect_equal(names(ext$data$covariates), c("temp>15", "occupancy:temp>15"))
   # the hidden effect is 300 kWh per unit of occupancy where temp > 15
   gamma <- posterior::as_draws_df(ext)$`gamma[occupancy:temp>15]`
   expect_gt(mean(gamma), 200)
   expect_lt(mean(gamma), 400)
-  # predictions rebuild the column from occupancy and temp
+  # predictions rebuild the columns from occupancy and temp
   given <- case$holdout
+  given[["temp>15"]] <- as.numeric(given$temp > 15)
   given[["occupancy:temp>15"]] <- given$occupancy * (given$temp > 15)
   draws <- function(newdata) {
     suppressWarnings(withr::with_seed(1, bayesbem:::predict_draws(ext, newdata, ndraws = 20)),
