@@ -36,8 +36,14 @@ jittered_cor <- function(pair, beta, nugget) {
   exp(-weighted_sum(pair$d, beta)) + nugget * pair$eq
 }
 
-# Squared-exponential covariance of the discrepancy.
+# Squared-exponential covariance of the discrepancy: a product over the
+# inputs, or with `par$additive` their mean (fit-hsgp.R's kernel),
+#   (p lambda)^-1 sum_k exp(-beta_k d_k^2).
 delta_cov <- function(pair, par) {
+  if (isTRUE(par$additive)) {
+    terms <- Map(function(d, b) exp(-b * d), pair$d, par$beta_delta)
+    return(Reduce(`+`, terms) / (length(terms) * par$lambda_delta))
+  }
   exp(-weighted_sum(pair$d, par$beta_delta)) / par$lambda_delta
 }
 

@@ -226,23 +226,44 @@ stage2_inits <- function(init, emulator) {
 
 # The data of koh_basis.stan: stage 2's common data (stage2_stan_data())
 # and the pieces of each output's basis emulator (`emulator$basis`),
-# stacked by output: its rows and its components a block of the bases `B`.
-basis_stan_data <- function(data, priors, emulator) {
+# stacked by output: its rows and its components a block of the bases `B`;
+# with an hsgp_design() `hsgp`, the additive discrepancy's (hsgp_stan_data()).
+basis_stan_data <- function(data, priors, emulator, hsgp = NULL) {
   bases <- lapply(output_emulators(data, emulator), `[[`, "basis")
   gps <- unlist(lapply(bases, `[[`, "components"), recursive = FALSE)
   mt <- nrow(bases[[1]]$tc)
   field <- function(name, size) matrix(vapply(gps, `[[`, numeric(size), name), ncol = length(gps))
   q <- ncol(bases[[1]]$tc)
-  c(stage2_stan_data(data, priors, emulator),
-    list(tf_edge = linear_box$edge, tf_multiplier = linear_box$multiplier,
-         pc = length(gps),
-         pc_output = as.array(rep(seq_along(bases), vapply(bases, function(b) ncol(b$B), integer(1)))),
-         mu_f = unlist(lapply(bases, `[[`, "mu")), B = block_diagonal(lapply(bases, `[[`, "B")),
-         s2r = as.array(vapply(bases, `[[`, numeric(1), "s2r")),
-         w_coef = field("b", q + 1), w_beta = field("beta", q),
-         w_s2 = as.array(vapply(gps, `[[`, numeric(1), "s2")),
-         w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
-         w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
+  sd <- c(stage2_stan_data(data, priors, emulator),
+          list(tf_edge = linear_box$edge, tf_multiplier = linear_box$multiplier,
+               pc = length(gps),
+               pc_output = as.array(rep(seq_along(bases), vapply(bases, function(b) ncol(b$B), integer(1)))),
+               mu_f = unlist(lapply(bases, `[[`, "mu")), B = block_diagonal(lapply(bases, `[[`, "B")),
+               s2r = as.array(vapply(bases, `[[`, numeric(1), "s2r")),
+               w_coef = field("b", q + 1), w_beta = field("beta", q),
+               w_s2 = as.array(vapply(gps, `[[`, numeric(1), "s2")),
+               w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
+               w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
+  hsgp_stan_data(sd, hsgp)
+}
+
+# koh_basis.stan's data of the additive Hilbert-space discrepancy added to
+# its data `sd`: the frequencies, and each output's Gram matrix of Z_k =
+# [B_k, Phi_k, y_k - mu_f_k, h_k] on the diagonal of `gram`, the only use
+# the likelihood makes of the rows. None (hsgp = 0) when `design` is NULL.
+hsgp_stan_data <- function(sd, design) {
+  if (is.null(design)) {
+    return(c(sd, list(hsgp = 0L, m = 0L, omega = numeric(0), n_z = 0L, gram = matrix(0, 0, 0))))
+  }
+  grams <- lapply(seq_len(sd$K), function(k) {
+    rows <- sd$output == k
+    crossprod(cbind(sd$B[rows, sd$pc_output == k, drop = FALSE],
+                    hsgp_phi(sd$xf[rows, , drop = FALSE], design),
+                    sd$y[rows] - sd$mu_f[rows], sd$h[rows, , drop = FALSE]))
+  })
+  gram <- block_diagonal(grams)
+  c(sd, list(hsgp = 1L, m = design$m, omega = as.array(design$omega), n_z = nrow(gram),
+             gram = gram))
 }
 
 # The scale koh_basis.stan samples tf on, passed to it as data: `edge`, the

@@ -92,6 +92,17 @@
 #'   fit.
 #'   `"auto"` (the default) chooses `"basis"` for a modular fit of more
 #'   than 36 field rows, `"separable"` otherwise.
+#' @param discrepancy_kernel The discrepancy's Gaussian process: `"product"`, the
+#'   paper's, one squared-exponential kernel over all observable inputs
+#'   jointly, whose likelihood factors an n x n matrix per gradient; or
+#'   `"additive"`, a sum of one Gaussian process per input, each with its
+#'   own length scale and variance `1 / (p lambda_delta)`, in the
+#'   Hilbert-space approximation of Riutort-Mayol et al. (2023): 40 basis
+#'   functions per input, within 0.025 of the kernel's variance for
+#'   `rho_delta` from 0.02 to 0.98, so that a gradient's cost does not
+#'   grow with the rows (`bench/RESULTS.md`, "Discrepancy at scale"). Needs
+#'   the basis emulator and periods of one length. `"auto"` (the default)
+#'   is `"product"`.
 #' @param minor_modes What to do with chains stuck in a minor mode of the
 #'   posterior: `"drop"` (the default) deals with them as below, with a
 #'   message; `"keep"` keeps every chain as it ran. Each chain's mode gets a
@@ -180,6 +191,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       control = NULL, predict_at = NULL,
                       structure = c("auto", "grid", "dense"), covariates = NULL,
                       modular = "auto", emulator = c("auto", "separable", "basis"),
+                      discrepancy_kernel = c("auto", "product", "additive"),
                       minor_modes = c("drop", "keep"),
                       progress = getOption("bayesbem.progress", TRUE), ...) {
   data <- as_koh_data(field, sim)
@@ -204,6 +216,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
     modular <- choose_modular(modular, data, structure)
   }
   emulator_type <- choose_emulator(match_choice(emulator), modular, data)
+  discrepancy_kernel <- choose_discrepancy_kernel(match_choice(discrepancy_kernel), emulator_type,
+                                                  data)
   defaults <- default_sampling(modular, largest_output(data), emulator_type)
   check_count(chains)
   check_count(cores)
@@ -217,7 +231,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   control <- merge_control(control, defaults$control)
   minor_modes <- match_choice(minor_modes)
   inform_blas(largest_output(data), lapack, modular || structure == "grid")
-  check_fit_size(fit_size(data, structure, modular, iter), min(cores, chains))
+  check_fit_size(fit_size(data, structure, modular, iter, discrepancy_kernel), min(cores, chains))
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                   cores = min(cores, chains), control = control, args = list(...),
@@ -228,7 +242,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   # `emulator` names the choice; stage 1 is the fitted emulator (of each output)
   stage1 <- if (modular) fit_stage1(data, priors, seed, sampler$on_failure, emulator_type)
   if (modular) sampler$args$init <- stage2_inits(sampler$args$init, emulator_type)
-  program <- stan_program(data, priors, stage1, emulator_type, modular, structure, predict_at)
+  program <- stan_program(data, priors, stage1, emulator_type, modular, structure, predict_at,
+                          discrepancy_kernel)
   model <- program$model
   stan_data <- program$data
   label <- sprintf("%s %d chain%s", if (modular) "Stage 2: sampling" else "Sampling", chains,
@@ -237,7 +252,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                                       sampler))
   settings <- list(chains = chains, iter = iter, warmup = warmup, seed = seed, control = control,
                    structure = structure, modular = modular, emulator = emulator_type,
-                   minor_modes = minor_modes, lapack = lapack, dropped = attr(stanfit, "dropped"),
+                   discrepancy_kernel = discrepancy_kernel, minor_modes = minor_modes,
+                   lapack = lapack, dropped = attr(stanfit, "dropped"),
                    restarted = restarted_chains(stanfit), kept_moved = attr(stanfit, "kept_moved"))
   fit <- stanfit_fit(stanfit, data, priors, settings, emulator = stage1,
                      predict_at = if (!is.null(predict_at)) predict_at[data$names$x])
@@ -255,10 +271,13 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
 #   joint, grid likelihood       koh_grid.stan     koh_stan_data()
 #   modular, separable emulator  koh_modular.stan  modular_stan_data()
 #   modular, basis emulator      koh_basis.stan    basis_stan_data()
+#     (additive discrepancy: its hsgp block)
 # Stage 1 of a modular fit is koh_emulator.stan (emulator_stan_data()).
-stan_program <- function(data, priors, stage1, emulator, modular, structure, predict_at) {
+stan_program <- function(data, priors, stage1, emulator, modular, structure, predict_at,
+                         discrepancy_kernel = "product") {
   if (emulator == "basis") {
-    return(list(model = stanmodels$koh_basis, data = basis_stan_data(data, priors, stage1)))
+    hsgp <- if (discrepancy_kernel == "additive") hsgp_design()
+    return(list(model = stanmodels$koh_basis, data = basis_stan_data(data, priors, stage1, hsgp)))
   }
   if (modular) {
     return(list(model = stanmodels$koh_modular, data = modular_stan_data(data, priors, stage1)))
@@ -341,7 +360,8 @@ default_path <- function(data) {
 # "Gradient cost" at n = 365 for the joint grid's field block and stage
 # 2's), and gradients per iteration (7e4 in a default joint fit of 4000
 # iterations, "Scaling").
-fit_cost <- list(seconds_per_cubed_row = c(dense = 1.2e-9, grid = 6.7e-10, stage2 = 1.6e-10),
+fit_cost <- list(seconds_per_cubed_row = c(dense = 1.2e-9, grid = 6.7e-10, stage2 = 1.6e-10,
+                                           additive = 1e-9),
                  gradients_per_iteration = 17.5)
 
 # Taking the dense likelihood because the runs are not a grid is slow
@@ -369,8 +389,16 @@ inform_dense <- function(data, structure, asked) {
 # autodiff keeps about 64 bytes per element, and its squared distances,
 # p + q + 4 doubles per pair), and `hours` of sampling `iter` iterations
 # (fit_cost).
-fit_size <- function(data, structure, modular, iter) {
+fit_size <- function(data, structure, modular, iter, discrepancy_kernel = "product") {
   n <- vapply(output_data(data), `[[`, integer(1), "n")
+  if (discrepancy_kernel == "additive") {
+    # a factor of the basis functions and components, whatever the rows
+    rows <- hsgp_design()$m * data$p + 10L
+    bytes <- 8 * sum(n) * rows + 8 * 6 * length(n) * rows^2
+    seconds <- fit_cost$gradients_per_iteration * iter *
+      fit_cost$seconds_per_cubed_row[["additive"]] * length(n) * rows^3
+    return(list(bytes = bytes, hours = seconds / 3600, rows = rows))
+  }
   if (structure == "dense") {
     rows <- data$n + data$m
     bytes <- (64 + 8 * (data$p + data$q + 4)) * rows^2
@@ -413,6 +441,29 @@ available_memory <- function() {
     return(NA_real_)
   }
   as.numeric(gsub("[^0-9]", "", line)) * 1024
+}
+
+# discrepancy_kernel = "auto": the product kernel of the paper. "additive" (the
+# Hilbert-space approximation, R/fit-hsgp.R) needs the basis emulator and
+# periods of one length within each output (its noise a multiple of the
+# identity).
+choose_discrepancy_kernel <- function(kernel, emulator, data, call = rlang::caller_env()) {
+  if (kernel != "additive") {
+    return("product")
+  }
+  if (emulator != "basis") {
+    abort_bayesbem(c("The additive discrepancy needs the basis emulator.",
+                     i = "Use {.code emulator = \"basis\"} (a modular fit on a grid design)."),
+                   "argument", call = call)
+  }
+  unequal <- vapply(output_data(data), function(d) diff(range(noise_weights(d))) > 1e-12,
+                    logical(1))
+  if (any(unequal)) {
+    abort_bayesbem(c("The additive discrepancy needs periods of one length in each output.",
+                     i = "The field's {.field days} differ between rows; use {.code discrepancy_kernel = \"product\"}."),
+                   "argument", call = call)
+  }
+  "additive"
 }
 
 # emulator = "auto": the basis emulator for a modular fit of more than 36
@@ -525,6 +576,7 @@ refit <- function(fit, ...) {
                warmup = settings$warmup, seed = settings$seed, control = settings$control,
                structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
                emulator = if (isTRUE(settings$modular)) settings$emulator %||% "separable" else "auto",
+               discrepancy_kernel = settings$discrepancy_kernel %||% "product",
                minor_modes = settings$minor_modes %||% "keep",
                covariates = fit_covariates(fit))
   # replaced whole, not merged: a new bayesbem_data or priors is a list too

@@ -52,10 +52,11 @@ draw_parameters <- function(fit, ndraws = NULL) {
   select <- mean_selection(fit$priors, fit$data$p, fit$data$q)
   coef <- if (ncol(select) > 0L) get("b") %*% t(select) else matrix(0, nrow(tf), nrow(select))
   idx <- draw_subset(nrow(tf), ndraws)
+  additive <- identical(fit$settings$discrepancy_kernel, "additive")
   draws <- lapply(idx, function(i) {
     list(tf = tf[i, ], beta_eta = beta_eta[i, ], beta_delta = beta_delta[i, ],
          lambda_eta = lambda[i, 1], lambda_delta = lambda[i, 2], lambda_e = lambda[i, 3],
-         gamma = gamma[i, ], coef = coef[i, ], nugget = fit$priors$nugget)
+         gamma = gamma[i, ], coef = coef[i, ], nugget = fit$priors$nugget, additive = additive)
   })
   structure(draws, index = idx)
 }

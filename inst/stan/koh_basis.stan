@@ -39,6 +39,39 @@ functions {
     }
     return tf;
   }
+
+  /* The variance of each basis function's coefficient in the additive
+   * Hilbert-space approximate discrepancy (R/fit-hsgp.R; Riutort-Mayol,
+   * Burkner, Andersen, Solin & Vehtari 2023, Stat Comput 33, Eq 1):
+   * input k's m functions, at frequencies omega, have the spectral density
+   * of exp(-beta[k] d^2) / (p lambda),
+   *   (p lambda)^-1 sqrt(pi / beta[k]) exp(-omega^2 / (4 beta[k])). */
+  vector hsgp_spectral(vector omega, vector beta, real lambda) {
+    int m = rows(omega);
+    int p = rows(beta);
+    vector[m * p] s;
+    for (k in 1:p) {
+      s[((k - 1) * m + 1):(k * m)] = exp(0.5 * log(pi() / beta[k]) - log(p * lambda)
+                                         - square(omega) / (4 * beta[k]));
+    }
+    return s;
+  }
+
+  /* Log density of r ~ N(0, U diag(c) U' + d I), r of n_r elements, from
+   * rr = r'r, ur = U'r and uu = U'U alone: with s = sqrt(c) and A = I +
+   * diag(s) U'U diag(s) / d (Woodbury's identity and the determinant
+   * lemma; Rasmussen & Williams 2006, Eqs A.9 and A.10),
+   *   r' Sigma^-1 r = (r'r - b' A^-1 b) / d, b = diag(s) U'r / sqrt(d),
+   *   log|Sigma| = log|A| + n_r log(d).
+   * One Cholesky factor of a matrix of U's columns: no cost in the rows. */
+  real normal_lowrank(real rr, vector ur, matrix uu, vector c, real d, int n_r) {
+    int r = rows(c);
+    vector[r] s = sqrt(c);
+    matrix[r, r] L = cholesky_decompose(diag_matrix(rep_vector(1, r)) + quad_form_diag(uu, s) / d);
+    vector[r] v = mdivide_left_tri_low(L, s .* ur) / sqrt(d);
+    return -0.5 * (n_r * log(2 * pi()) + 2 * sum(log(diagonal(L))) + n_r * log(d)
+                   + (rr - dot_self(v)) / d);
+  }
 }
 data {
   // n, mt, p, q, K; y, xf, tc, each row's output and noise weight
@@ -63,6 +96,16 @@ data {
   vector<lower=0>[pc] w_nug;             // components' nuggets
   matrix[mt, pc] w_alpha;                // Kj^-1 (w_j - H b_j)
   matrix[mt * pc, mt] w_Ki;              // Kj^-1, stacked
+  // hsgp = 1: the discrepancy as an additive Hilbert-space approximate
+  // Gaussian process (R/fit-hsgp.R), m basis functions per input at
+  // frequencies omega; the likelihood then reads each output's Gram matrix
+  // of Z_k = [B_k, Phi_k, y_k - mu_f_k, h_k] (block k of gram, from row and
+  // column (first component of k) + (k - 1) (m p + 1 + n_h)), never the rows
+  int<lower=0, upper=1> hsgp;
+  int<lower=0> m;
+  vector<lower=0>[m] omega;
+  int<lower=0> n_z;                      // hsgp * (pc + K (m p + 1 + n_h))
+  matrix[n_z, n_z] gram;
 }
 parameters {
   // calibration parameters, tf = g(tf_u), sampled as tf_u / tf_multiplier
@@ -83,13 +126,27 @@ model {
     int len = output_size(output, k);
     int c = output_start(pc_output, k);
     int pc_k = output_size(pc_output, k);
-    target += normal_basis_lpdf(segment(y, s, len) - segment(mu_f, s, len)
+    if (hsgp) {
+      // r = Z_k a, a = (-w, 0, 1, -gamma): r'r = a' G a, U'r = (G a)[1:u]
+      int u = pc_k + m * p;
+      int z = c + (k - 1) * (m * p + 1 + n_h);
+      vector[u + 1 + n_h] a = append_row(append_row(-segment(wv, c, pc_k), rep_vector(0, m * p)),
+                                         append_row(rep_vector(1, 1), -gamma));
+      vector[u + 1 + n_h] ga = block(gram, z, z, u + 1 + n_h, u + 1 + n_h) * a;
+      target += normal_lowrank(dot_product(a, ga), head(ga, u), block(gram, z, z, u, u),
+                               append_row(segment(wv, pc + c, pc_k),
+                                          hsgp_spectral(omega, segment(beta_delta, (k - 1) * p + 1, p),
+                                                        lambda_delta[k])),
+                               s2r[k] + noise_weight[s] / lambda_e[k], len);
+    } else {
+      target += normal_basis_lpdf(segment(y, s, len) - segment(mu_f, s, len)
                                 - block(B, s, c, len, pc_k) * segment(wv, c, pc_k)
                                 - output_terms(h, gamma, s, len)
                                 | block(B, s, c, len, pc_k), segment(wv, pc + c, pc_k),
                                 block(xf, s, 1, len, p), segment(beta_delta, (k - 1) * p + 1, p),
                                 lambda_delta[k],
                                 s2r[k] + segment(noise_weight, s, len) / lambda_e[k], lapack);
+    }
   }
 }
 generated quantities {

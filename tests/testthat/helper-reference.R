@@ -53,7 +53,7 @@ reference_joint <- function(sd, pars) {
   for (i in seq_len(n)) {
     for (j in seq_len(n)) {
       sigma[i, j] <- sigma[i, j] +
-        exp(-sum(beta_delta * (sd$xf[i, ] - sd$xf[j, ])^2)) / pars$lambda_delta +
+        kernel(sd$xf[i, ], sd$xf[j, ], beta_delta, pars$lambda_delta) +
         (i == j) * sd$noise_weight[i] / pars$lambda_e
     }
   }
@@ -230,8 +230,11 @@ random_outputs_data <- function(n = 7, runs = 6, extra = 1) {
 # element from its hyperparameters and the runs' weights, its mean
 # coefficients by generalised least squares, solved with solve(); then the
 # field outputs' mean and covariance, and stage 2's log density with R's own
-# density functions.
-reference_basis <- function(sd, basis, pars) {
+# density functions. `kernel(a, b, beta_delta, lambda_delta)`: the
+# discrepancy's covariance of two rows of inputs, by default the product
+# squared-exponential kernel.
+reference_basis <- function(sd, basis, pars, kernel = NULL) {
+  if (is.null(kernel)) kernel <- function(a, b, beta, lambda) exp(-sum(beta * (a - b)^2)) / lambda
   tc <- basis$tc
   mt <- nrow(tc)
   h <- cbind(1, tc)
@@ -253,7 +256,7 @@ reference_basis <- function(sd, basis, pars) {
   for (i in seq_len(n)) {
     for (j in seq_len(n)) {
       cov[i, j] <- sum(basis$B[i, ] * comp[2, ] * basis$B[j, ]) +
-        exp(-sum(beta_delta * (sd$xf[i, ] - sd$xf[j, ])^2)) / pars$lambda_delta +
+        kernel(sd$xf[i, ], sd$xf[j, ], beta_delta, pars$lambda_delta) +
         (i == j) * (basis$s2r + sd$noise_weight[i] / pars$lambda_e)
     }
   }
@@ -276,4 +279,23 @@ stage2_pars <- function(pars) {
   pars$lambda_delta <- as.array(pars$lambda_delta)
   pars$lambda_e <- as.array(pars$lambda_e)
   pars
+}
+
+# The additive Hilbert-space discrepancy's covariance of two rows of
+# inputs, term by term: for each input k and basis function j = 1..m, the
+# spectral density of exp(-beta_k d^2) / (p lambda) at pi j / (2 L) times
+# the two sines L^-1/2 sin(pi j (x - 1/2 + L) / (2 L)).
+reference_hsgp_kernel <- function(m, boundary) {
+  L <- boundary / 2
+  function(a, b, beta, lambda) {
+    total <- 0
+    for (k in seq_along(beta)) {
+      for (j in seq_len(m)) {
+        w <- pi * j / (2 * L)
+        density <- sqrt(pi / beta[k]) * exp(-w^2 / (4 * beta[k])) / (length(beta) * lambda)
+        total <- total + density * sin(w * (a[k] - 0.5 + L)) * sin(w * (b[k] - 0.5 + L)) / L
+      }
+    }
+    total
+  }
 }

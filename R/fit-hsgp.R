@@ -1,0 +1,55 @@
+# The discrepancy at a cost that does not grow with the rows: an additive
+# Hilbert-space approximate Gaussian process (Solin & Sarkka 2020, Stat
+# Comput 30; Riutort-Mayol, Burkner, Andersen, Solin & Vehtari 2023,
+# "Practical Hilbert space approximate Bayesian Gaussian processes for
+# probabilistic programming", Stat Comput 33). The discrepancy is a sum of
+# one Gaussian process per observable input,
+#   k(x, x') = (p lambda)^-1 sum_k exp(-beta_k (x_k - x'_k)^2),
+# each on the interval [-L, L] about the centre of its scaled input (in
+# [0, 1]) approximated by the Laplacian's first m eigenfunctions there,
+#   exp(-beta d^2) ~ sum_j S(omega_j) phi_j(x) phi_j(x'),
+# phi_j(x) = L^-1/2 sin(omega_j (x - 1/2 + L)), omega_j = pi j / (2 L), S
+# the kernel's spectral density (hsgp_spectral()). The discrepancy is then
+# Phi b, b ~ N(0, diag(S)), with Phi (n x m p) fixed: the likelihood needs
+# only its Gram matrix with the runs' basis and the outputs
+# (koh_basis.stan), computed once. Additive rather than the product
+# kernel of the exact programs: a product over p inputs needs m^p
+# functions (inst/notes/design.md, "Discrepancy at scale").
+
+# The basis functions of each input: `m` frequencies omega_j = pi j / (2
+# L) on [-L, L], L = `boundary` / 2 (the inputs' half-range times
+# `boundary`). m = 40, boundary = 10: every length scale with rho_delta in
+# [0.02, 0.98] within 0.025 of the kernel (test-fit-hsgp.R).
+hsgp_design <- function(m = 40L, boundary = 10) {
+  half_width <- boundary / 2
+  list(m = m, boundary = boundary, half_width = half_width,
+       omega = pi * seq_len(m) / (2 * half_width))
+}
+
+# The basis functions at scaled inputs x (n x p): n x (m p), input 1's m
+# functions first.
+hsgp_phi <- function(x, design) {
+  x <- as.matrix(x)
+  L <- design$half_width
+  do.call(cbind, lapply(seq_len(ncol(x)), function(k) {
+    sin(outer(x[, k] - 0.5 + L, design$omega)) / sqrt(L)
+  }))
+}
+
+# The variance of each basis function's coefficient: the spectral density
+# of exp(-beta_k d^2) / (p lambda) at its frequency (Riutort-Mayol et al.
+# 2023, Eq 1, squared length scale 1 / (2 beta_k)),
+#   S_k(omega) = (p lambda)^-1 sqrt(pi / beta_k) exp(-omega^2 / (4 beta_k)),
+# as hsgp_spectral() in koh_basis.stan.
+hsgp_spectral <- function(design, beta, lambda) {
+  p <- length(beta)
+  unlist(lapply(beta, function(b) {
+    exp(0.5 * log(pi / b) - log(p * lambda) - design$omega^2 / (4 * b))
+  }))
+}
+
+# The approximate discrepancy covariance between the rows of x1 and x2.
+hsgp_cov <- function(x1, x2, design, beta, lambda) {
+  s <- hsgp_spectral(design, beta, lambda)
+  hsgp_phi(x1, design) %*% (s * t(hsgp_phi(x2, design)))
+}

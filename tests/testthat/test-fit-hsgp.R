@@ -1,0 +1,62 @@
+test_that("the Hilbert-space basis approximates the additive kernel over the length scales", {
+  # two inputs on [0, 1]; rho_delta from short (0.02) to long (0.98) length scales
+  withr::local_seed(5)
+  x <- matrix(stats::runif(120), ncol = 2)
+  design <- bayesbem:::hsgp_design()
+  pair <- bayesbem:::pair_geometry(x, x)
+  for (rho in c(0.02, 0.1, 0.5, 0.9, 0.98)) {
+    beta <- -4 * log(c(rho, 0.5))
+    exact <- bayesbem:::delta_cov(pair, list(beta_delta = beta, lambda_delta = 2, additive = TRUE))
+    approx <- bayesbem:::hsgp_cov(x, x, design, beta, 2)
+    # the kernel's variance is 1 / lambda = 0.5
+    expect_lt(max(abs(exact - approx)), 0.025 * 0.5, label = paste("rho", rho))
+  }
+  # the additive kernel: the mean of one squared-exponential kernel per input
+  k <- bayesbem:::delta_cov(pair, list(beta_delta = c(3, 1), lambda_delta = 2, additive = TRUE))
+  expect_equal(k[2, 7], (exp(-3 * (x[2, 1] - x[7, 1])^2) + exp(-(x[2, 2] - x[7, 2])^2)) / 4)
+  # the basis functions: input 1's first, each a sine on [-L, L] about 1/2
+  phi <- bayesbem:::hsgp_phi(x, design)
+  expect_equal(dim(phi), c(60, 2 * design$m))
+  L <- design$half_width
+  expect_equal(phi[3, design$m + 2], sin(pi * 2 * (x[3, 2] - 0.5 + L) / (2 * L)) / sqrt(L))
+})
+
+test_that("stage 2 with the additive discrepancy has the log density of its dense model", {
+  skip_on_cran()
+  withr::local_seed(23)
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  priors <- koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)))
+  basis <- bayesbem:::basis_emulator(d, variance = 0.99)
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))), basis = basis)
+  design <- bayesbem:::hsgp_design(m = 6, boundary = 3)
+  sd <- bayesbem:::basis_stan_data(d, priors, emulator, design)
+  expect_equal(sd$hsgp, 1L)
+  expect_equal(dim(sd$gram), rep(ncol(basis$B) + 6 * d$p + 1 + sd$n_h, 2))
+  model <- koh_model_for(sd, "koh_basis")
+  kernel <- reference_hsgp_kernel(6, 3)
+  for (i in 1:3) {
+    pars <- list(tf = as.array(stats::runif(d$q, 0.05, 0.95)),
+                 rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
+                 lambda_delta = stats::rgamma(1, 10, 0.3), lambda_e = stats::rgamma(1, 10, 0.03),
+                 gamma = as.array(stats::rnorm(sd$n_h)))
+    ref <- reference_basis(sd, basis, pars, kernel)
+    u <- bayesbem:::linear_box_inverse(pars$tf)
+    stan_pars <- stage2_pars(c(list(tf_u = as.array(u)), pars[names(pars) != "tf"]))
+    a <- sd$tf_edge
+    jacobian <- sum(log(stats::plogis(u / a) - stats::plogis((u - 1) / a)))
+    expect_equal(stan_log_density(model, stan_pars), ref$lp + jacobian, tolerance = 1e-8)
+  }
+})
+
+test_that("the additive discrepancy needs the basis emulator and periods of one length", {
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  expect_identical(bayesbem:::choose_discrepancy_kernel("additive", "basis", d), "additive")
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", d), "product")
+  expect_error(bayesbem:::choose_discrepancy_kernel("additive", "separable", d),
+               class = "bayesbem_error_argument")
+  periods <- random_grid_data(n = 9, runs = 8, extra = 2, days = TRUE)
+  expect_error(bayesbem:::choose_discrepancy_kernel("additive", "basis", periods),
+               class = "bayesbem_error_argument")
+  expect_snapshot(calibrate(d, emulator = "separable", discrepancy_kernel = "additive"), error = TRUE)
+})
