@@ -358,10 +358,11 @@ default_path <- function(data) {
 # What a fit costs: seconds per gradient per cubed row of the matrix it
 # factors, by likelihood (bench/RESULTS.md: "Scaling" for the dense one,
 # "Gradient cost" at n = 365 for the joint grid's field block and stage
-# 2's), and gradients per iteration (7e4 in a default joint fit of 4000
-# iterations, "Scaling").
+# 2's, and by hour for the additive discrepancy's factor of its basis
+# functions and components), and gradients per iteration (7e4 in a
+# default joint fit of 4000 iterations, "Scaling").
 fit_cost <- list(seconds_per_cubed_row = c(dense = 1.2e-9, grid = 6.7e-10, stage2 = 1.6e-10,
-                                           additive = 1e-9),
+                                           additive = 4.7e-10),
                  gradients_per_iteration = 17.5)
 
 # Taking the dense likelihood because the runs are not a grid is slow

@@ -1,0 +1,73 @@
+# Benchmark (issue 55): the additive Hilbert-space discrepancy
+# (calibrate(discrepancy_kernel = "additive"), R/fit-hsgp.R) against the
+# paper's product kernel on the same data, where the product kernel is
+# still cheap: the problems of bench-reliability.R at 365 days
+# (bayesbem:::synthetic_problem(): the embedded model on the 2013 daily
+# weather, three parameters, 30 runs, noise 2 % of the mean output,
+# correct simulator), every sixth day held out. calibrate()'s defaults
+# (basis emulator, 4 chains x 3000) but for the kernel. Per problem and
+# kernel: each parameter's posterior mean and sd, the difference of the
+# means in Monte Carlo standard errors of the difference, the truth inside
+# the 90 % intervals, the held-out days' 90 % predictive intervals (mean
+# width, coverage of the measured use), max R-hat, divergences, the
+# sampling time and min bulk ESS per second.
+# Usage, from the package root, with bayesbem installed:
+#   Rscript bench/bench-discrepancy-kernel.R [problems, e.g. 1-3] [chains]
+suppressPackageStartupMessages(library(bayesbem))
+options(bayesbem.progress = FALSE, width = 200)
+args <- commandArgs(trailingOnly = TRUE)
+span <- as.integer(strsplit(if (length(args) > 0) args[1] else "1-3", "-")[[1]])
+chains <- if (length(args) > 1) as.integer(args[2]) else 4L
+
+one_fit <- function(problem, kernel, k) {
+  held_out <- seq(6, nrow(problem$field), by = 6)
+  start <- proc.time()[["elapsed"]]
+  fit <- suppressWarnings(
+    calibrate(problem$field[-held_out, ], problem$runs, discrepancy_kernel = kernel,
+              chains = chains, cores = 2, seed = k, refresh = 0),
+    classes = "bayesbem_warning_convergence")
+  seconds <- proc.time()[["elapsed"]] - start
+  s <- summary(fit)$parameters
+  truth <- unlist(problem$truth)[rownames(s)]
+  pred <- predict(fit, problem$field[held_out, names(problem$simulator$x)], noise = TRUE)
+  obs <- problem$field$y[held_out]
+  draws <- posterior::subset_draws(posterior::as_draws(fit), variable = "tf")
+  sampler <- attr(check_convergence(fit, warn = FALSE), "sampler")
+  data.frame(problem = k, kernel = kernel, parameter = rownames(s), mean = s$mean, sd = s$sd,
+             mcse = posterior::summarise_draws(draws, posterior::mcse_mean)$mcse_mean,
+             covered = s$q5 <= truth & truth <= s$q95,
+             width = mean(pred$q95 - pred$q5),
+             held_out_covered = mean(pred$q5 <= obs & obs <= pred$q95),
+             rhat = max(s$rhat), divergent = sampler$divergent, seconds = seconds,
+             ess_per_s = min(s$ess_bulk) / seconds)
+}
+
+rows <- list()
+for (k in seq(span[1], span[length(span)])) {
+  problem <- bayesbem:::synthetic_problem(365, 30, k)
+  for (kernel in c("product", "additive")) {
+    row <- one_fit(problem, kernel, k)
+    print(row, digits = 3, row.names = FALSE)
+    rows[[length(rows) + 1L]] <- row
+  }
+}
+out <- do.call(rbind, rows)
+product <- out[out$kernel == "product", ]
+additive <- out[out$kernel == "additive", ]
+cat("\nAdditive against product, per problem and parameter:\n")
+print(data.frame(problem = product$problem, parameter = product$parameter,
+                 mean_difference_in_mcse = (additive$mean - product$mean) /
+                   sqrt(additive$mcse^2 + product$mcse^2),
+                 mean_difference_in_sd = (additive$mean - product$mean) / product$sd,
+                 sd_ratio = additive$sd / product$sd), digits = 3, row.names = FALSE)
+cat("\nPer kernel:\n")
+print(do.call(rbind, lapply(split(out, out$kernel), function(s) {
+  data.frame(kernel = s$kernel[1], truth_covered = sprintf("%d/%d", sum(s$covered), nrow(s)),
+             held_out_width = mean(s$width[!duplicated(s$problem)]),
+             held_out_covered = mean(s$held_out_covered[!duplicated(s$problem)]),
+             max_rhat = max(s$rhat), divergent = sum(s$divergent[!duplicated(s$problem)]),
+             seconds = mean(s$seconds[!duplicated(s$problem)]),
+             min_ess_per_s = min(s$ess_per_s))
+})), digits = 3, row.names = FALSE)
+cat(sprintf("machine: %d cores; R %s; rstan %s; %s\n", parallel::detectCores(), getRversion(),
+            packageVersion("rstan"), Sys.Date()))
