@@ -106,33 +106,49 @@ refine_region <- function(name, candidates, free, nuisance) {
   labels[which.max(explained)]
 }
 
-# A named region-specific line ("a, where b > c") or, where its effect adds
-# nothing beyond chance to its region's step, that step ("b > c", its cut
-# refined on its own). A line holds its step, so it always explains at
-# least as much, and the share alone would always prefer it. Its effect
-# column is tested given the step and recalibration (`basis`): the R^2 of
-# the posterior mean residual by it against the null residuals', adjusted
-# over every candidate's line in that region by the max statistic (the
-# line was chosen among them), at `alpha`. Other terms are returned as
-# they are.
-simplest_region <- function(name, candidates, basis, mean_residual, null, alpha) {
+# A named region-specific line ("a, where b > c"), or the simpler term it
+# does not beat beyond chance: its region's step "b > c" (its cut refined
+# on its own) or the candidate `a` over all rows (its `main` terms). A line
+# holds its step and nearly holds `a` (two columns where `a` has one), so
+# the share alone would prefer it. Against each simpler term, the line's
+# columns are tested given it and recalibration (`basis`): the R^2 of the
+# posterior mean residual by them against the null residuals', adjusted
+# by the max statistic over the lines it was chosen among (every
+# candidate's line in that region, against the step; every line of `a`,
+# among `labels`, against `a`), at `alpha`. Of the simpler terms the line
+# does not beat, the one that explains most is named. Other terms are
+# returned as they are.
+simplest_region <- function(name, candidates, basis, mean_residual, null, alpha, main, labels) {
   parts <- parse_region(name)
   if (is.null(parts) || !nzchar(parts$effect)) {
     return(name)
   }
   step <- region_label("", parts$input, ">", parts$cut)
-  nuisance <- qr(cbind(basis, region_values(step, candidates)))
-  free <- qr.resid(nuisance, mean_residual)
-  null_free <- qr.resid(nuisance, null)
   others <- setdiff(names(candidates), parts$input)
-  lines <- unique(c(name, region_label(rep(others, 2), parts$input,
-                                      rep(c("<", ">"), each = length(others)), parts$cut)))
-  chances <- lapply(lines, function(l) {
-    chance_z(region_values(l, candidates), free, null_free, nuisance)
-  })
-  null_max <- do.call(pmax, lapply(chances, `[[`, "null_z"))
-  if ((1 + sum(null_max >= chances[[1]]$z)) / (length(null_max) + 1) < alpha) {
+  of_effect <- labels[vapply(labels, function(l) identical(parse_region(l)$effect, parts$effect),
+                             logical(1))]
+  simpler <- list(
+    list(label = step, columns = region_values(step, candidates),
+         lines = region_label(rep(others, 2), parts$input, rep(c("<", ">"), each = length(others)),
+                              parts$cut)),
+    list(label = parts$effect, columns = main[[parts$effect]], lines = of_effect))
+  beaten <- vapply(simpler, function(alt) {
+    nuisance <- qr(cbind(basis, alt$columns))
+    free <- qr.resid(nuisance, mean_residual)
+    null_free <- qr.resid(nuisance, null)
+    chances <- lapply(unique(c(name, alt$lines)), function(l) {
+      chance_z(term_matrix(l, candidates), free, null_free, nuisance)
+    })
+    null_max <- do.call(pmax, lapply(chances, `[[`, "null_z"))
+    (1 + sum(null_max >= chances[[1]]$z)) / (length(null_max) + 1) < alpha
+  }, logical(1))
+  if (all(beaten)) {
     return(name)
   }
-  refine_region(step, candidates, qr.resid(qr(basis), mean_residual), qr(basis))
+  nuisance <- qr(basis)
+  free <- qr.resid(nuisance, mean_residual)
+  kept <- simpler[!beaten]
+  explained <- vapply(kept, function(alt) partial_r_squared(alt$columns, free, nuisance), numeric(1))
+  best <- kept[[which.max(explained)]]$label
+  if (best == step) refine_region(step, candidates, free, nuisance) else best
 }

@@ -72,11 +72,12 @@
 #' input around the tested cut (up to half-way to the next candidate cuts),
 #' the one whose term explains the most of the posterior mean residual is
 #' named; its `share` and `cv_gain` are the refined term's, `z` and
-#' `p_value` the tested cut's. A line holds its region's step, so it always
-#' explains at least as much: a named line keeps its name only when its
-#' slope explains more beyond the step than chance does (the largest of
-#' every candidate's line in that region against the null residuals, at
-#' `alpha`), and is named as the step otherwise. The
+#' `p_value` the tested cut's. A line holds its region's step and nearly
+#' holds its candidate over all rows, so by share it would always win: a
+#' named line keeps its name only when it explains more than each of the
+#' two beyond chance (against the null residuals, the largest over the
+#' lines it was chosen among, at `alpha`), and is otherwise named as the
+#' simpler of the two that explains more. The
 #' verdict names the explaining candidate with the largest share, or says
 #' that none explains it: for a correct simulator, that happens in about
 #' `1 - alpha` of data sets (measured in `bench/bench-false-alarms.R` and
@@ -167,15 +168,16 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   baseline <- press(basis, mean_residual)
   out$cv_gain <- vapply(terms, function(b) cv_gain(mean_residual, basis, b, baseline), numeric(1))
   out$explains <- out$p_value < alpha & out$cv_gain > 0
-  # named regions get the cut the data put the edge at, and a line whose
-  # slope adds nothing to its step is named as the step; the test stands
-  # (p_value and z are the grid term's), the rest is the named term's
+  # named regions get the cut the data put the edge at, and a line that
+  # beats no simpler term beyond chance is named as that term; the test
+  # stands (p_value and z are the grid term's), the rest is the named term's
   free <- qr.resid(nuisance, mean_residual)
+  region_labels <- names(terms)[family == "region"]
   for (i in which(out$explains & family == "region")) {
     label <- simplest_region(refine_region(out$candidate[i], candidates, free, nuisance),
-                             candidates, basis, mean_residual, null, alpha)
+                             candidates, basis, mean_residual, null, alpha, main, region_labels)
     if (label == out$candidate[i]) next
-    terms[[i]] <- term_matrix(label, candidates)
+    terms[[i]] <- if (label %in% names(main)) main[[label]] else term_matrix(label, candidates)
     names(terms)[i] <- out$candidate[i] <- label
     scores[[i]] <- term_scores(terms[[i]], residual, nuisance, null, level, blocks)
     out[i, c("share", "lower", "upper")] <- scores[[i]]$summary[c("share", "lower", "upper")]
@@ -183,7 +185,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
     out$explains[i] <- out$cv_gain[i] > 0
   }
   out <- out[order(!out$explains, -out$share), ]
-  # a line named as its step can repeat the step (the same term)
+  # a line named as a simpler term can repeat that term
   out <- out[!duplicated(out$candidate), ]
   rownames(out) <- NULL
   shares <- stats::setNames(lapply(scores, `[[`, "shares"), names(terms))

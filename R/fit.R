@@ -430,7 +430,8 @@ check_fit_size <- function(size, parallel, available = available_memory(),
   gb <- function(b) format(signif(b / 2^30, 2))
   abort_bayesbem(c("This fit is too large to run here: its likelihood factors a {size$rows} x {size$rows} matrix per gradient.",
                    x = "It would need about {gb(needed)} GB of memory ({parallel} chain{?s} at once){if (!is.na(available)) paste0(', of ', gb(available), ' GB available')} and about {format(signif(size$hours, 2))} hours of sampling per chain (limit {max_hours}: {.code options(bayesbem.max_hours = )}).",
-                   i = "Calibrate on fewer rows: daily or weekly sums ({.code bem_simulator(by = \"day\")}), or a few weeks of the periods; run fewer chains at once ({.arg cores})."),
+                   i = "Calibrate on fewer rows: daily or weekly sums ({.code bem_simulator(by = \"day\")}), or a few weeks of the periods; run fewer chains at once ({.arg cores}).",
+                   i = "Or, with the basis emulator, use {.code discrepancy_kernel = \"additive\"}: its gradient costs the same at any number of rows."),
                  "too_large", call = call)
 }
 

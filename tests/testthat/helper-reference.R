@@ -53,7 +53,7 @@ reference_joint <- function(sd, pars) {
   for (i in seq_len(n)) {
     for (j in seq_len(n)) {
       sigma[i, j] <- sigma[i, j] +
-        kernel(sd$xf[i, ], sd$xf[j, ], beta_delta, pars$lambda_delta) +
+        exp(-sum(beta_delta * (sd$xf[i, ] - sd$xf[j, ])^2)) / pars$lambda_delta +
         (i == j) * sd$noise_weight[i] / pars$lambda_e
     }
   }

@@ -312,7 +312,7 @@ test_that("a named region's cut moves to the gap where the effect's edge is", {
                                             qr(matrix(1, 10))), "rh > 47")
 })
 
-test_that("a region-specific line is named only where its slope adds to its step", {
+test_that("a region-specific line is named only where it beats its step and its candidate", {
   # 36 rows; a step of 250 where rh > 47, or a line there (100 + 300 x
   # occupancy); null residuals of the noise's sd. The line always explains
   # at least as much as its step: the step is named unless the slope is
@@ -326,13 +326,21 @@ test_that("a region-specific line is named only where its slope adds to its step
   noise <- stats::rnorm(n, sd = 5)
   step <- 250 * (table$rh > 47) + noise
   line <- (100 + 300 * table$occupancy) * (table$rh > 47) + noise
-  simplest <- function(name, r) bayesbem:::simplest_region(name, table, basis, r, null, 0.05)
+  main <- bayesbem:::main_terms(table)
+  labels <- names(bayesbem:::region_terms(table, table))
+  simplest <- function(name, r) {
+    bayesbem:::simplest_region(name, table, basis, r, null, 0.05, main, labels)
+  }
   for (effect in c("occupancy", "temp")) {
     named <- simplest(paste0(effect, ", where rh > 47"), step)
     expect_identical(bayesbem:::parse_region(named)$effect, "", label = named)
     expect_identical(bayesbem:::term_variables(named), "rh")
   }
   expect_identical(simplest("occupancy, where rh > 47", line), "occupancy, where rh > 47")
+  # an effect of occupancy in every row: the line where rh > 47 holds
+  # it there, but beats occupancy alone by no more than chance
+  everywhere <- 300 * table$occupancy + noise
+  expect_identical(simplest("occupancy, where rh > 47", everywhere), "occupancy")
   # steps and hinges are left as they are
   expect_identical(simplest("rh > 47", line), "rh > 47")
   expect_identical(simplest("max(rh - 47, 0)", line), "max(rh - 47, 0)")

@@ -319,4 +319,8 @@ test_that("a year of hourly rows is prepared in bounded memory and refused up fr
   # the hours follow the iterations asked for
   expect_equal(bayesbem:::fit_size(d, "grid", TRUE, 500)$hours, size$hours / 4)
   expect_error(calibrate(d, chains = 2, seed = 1), class = "bayesbem_error_too_large")
+  # the additive discrepancy's factor has its basis functions' columns, not the rows
+  additive <- bayesbem:::fit_size(d, "grid", TRUE, 3000, "additive")
+  expect_equal(additive$rows, 40 * 3 + 10)
+  expect_lt(additive$hours, 0.5)
 })
