@@ -16,7 +16,8 @@
 #' - 18, 0)", a balance point; "max(12 - temp, 0)"), and each other
 #' candidate's line (offset and slope) only on one side of it ("rh, where
 #' temp > 15": a latent load that grows with humidity once the building
-#' cools).
+#' cools), tested and cross-validated both as a line and as its slope
+#' through zero (one column less to pay for when there is no offset).
 
 #' Part of any residual is not the simulator's fault: calibration parameters
 #' that are off move the output along the simulator's own sensitivities
@@ -164,7 +165,19 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   scores <- lapply(terms, function(b) term_scores(b, residual, nuisance, null, level, blocks))
   out <- data.frame(candidate = names(terms),
                     do.call(rbind, lapply(scores, `[[`, "summary")), row.names = NULL)
-  out$p_value <- adjusted_p_values(scores, family, weights)
+  # a line is tested and cross-validated as itself and as its slope alone
+  # (a slope through zero, one column), each a term of the family
+  lines <- which(family == "region" & vapply(terms, ncol, integer(1)) == 2L)
+  free_mean <- qr.resid(nuisance, colMeans(residual))
+  null_free <- qr.resid(nuisance, null)
+  slopes <- lapply(terms[lines], function(b) {
+    chance <- chance_z(b[, 2], free_mean, null_free, nuisance)
+    list(summary = data.frame(z = chance$z), null_z = chance$null_z)
+  })
+  p <- adjusted_p_values(c(scores, slopes), c(family, rep("region", length(lines))), weights)
+  out$p_value <- p[seq_along(terms)]
+  out$p_value[lines] <- pmin(out$p_value[lines], p[-seq_along(terms)])
+  out$z[lines] <- pmax(out$z[lines], vapply(slopes, function(s) s$summary$z, numeric(1)))
   baseline <- press(basis, mean_residual)
   out$cv_gain <- vapply(terms, function(b) cv_gain(mean_residual, basis, b, baseline), numeric(1))
   out$explains <- out$p_value < alpha & out$cv_gain > 0

@@ -90,17 +90,25 @@ term_scores <- function(b, residual, nuisance, null, level, blocks) {
 }
 
 # R^2 of each column of `r` (already orthogonal to `nuisance`) by the
-# columns of `b` made orthogonal to it too; 0 when b lies inside the
-# nuisance span (a column of rounding error only is dropped).
+# columns of `b` made orthogonal to it too (free_columns()); 0 when none
+# is left.
 partial_r_squared <- function(b, r, nuisance) {
-  b <- cbind(b)
-  free_b <- qr.resid(nuisance, b)
-  free_b <- free_b[, sqrt(colSums(free_b^2)) > 1e-8 * sqrt(colSums(b^2)), drop = FALSE]
+  free_b <- qr.resid(nuisance, cbind(b))[, free_columns(b, nuisance), drop = FALSE]
   if (ncol(free_b) == 0L) {
     return(rep(0, NCOL(r)))
   }
   fitted <- qr.fitted(qr(free_b), r)
   colSums(as.matrix(fitted)^2) / colSums(as.matrix(r)^2)
+}
+
+# The columns of a term that recalibration (`nuisance`) leaves at least a
+# tenth of (in norm): a column 99 % inside what recalibration does (a
+# region's step at the simulator's switch from heating to cooling) only
+# adds a direction the data can hardly attribute, whose fit rests on a few
+# rows; dropping it leaves, e.g., a line's slope.
+free_columns <- function(b, nuisance) {
+  b <- cbind(b)
+  sqrt(colSums(qr.resid(nuisance, b)^2)) > 0.1 * sqrt(colSums(b^2))
 }
 
 # A term's partial R^2 of the posterior mean residual (`free`) against the
@@ -168,8 +176,16 @@ press <- function(x, r) {
 # PRESS(basis), PRESS the sum of squared leave-one-out errors of the least
 # squares fit, e_i / (1 - h_ii). Positive when the term predicts left-out
 # rows (a term that only fits noise, or a few rows, makes PRESS larger).
+# The term's columns as free_columns() keeps them; 0 when none is left. A
+# line (two columns, step and slope) predicts when it or its slope alone
+# does.
 cv_gain <- function(r, basis, b, baseline = press(basis, r)) {
-  1 - press(cbind(basis, b), r) / baseline
+  b <- cbind(b)
+  gain <- function(columns) {
+    columns <- columns[, free_columns(columns, qr(basis)), drop = FALSE]
+    if (ncol(columns) == 0L) 0 else 1 - press(cbind(basis, columns), r) / baseline
+  }
+  if (ncol(b) == 2L) max(gain(b), gain(b[, 2, drop = FALSE])) else gain(b)
 }
 
 # The share of alpha each family of terms gets when regions are tried: the

@@ -4,7 +4,8 @@
 # "Practical Hilbert space approximate Bayesian Gaussian processes for
 # probabilistic programming", Stat Comput 33). The discrepancy is a sum of
 # one Gaussian process per observable input,
-#   k(x, x') = (p lambda)^-1 sum_k exp(-beta_k (x_k - x'_k)^2),
+#   k(x, x') = (p lambda)^-1 sum_k exp(-b_k (x_k - x'_k)^2),
+# b_k = additive_beta(beta_k) (length scales at most 2.5 input ranges),
 # each on the interval [-L, L] about the centre of its scaled input (in
 # [0, 1]) approximated by the Laplacian's first m eigenfunctions there,
 #   exp(-beta d^2) ~ sum_j S(omega_j) phi_j(x) phi_j(x'),
@@ -18,8 +19,8 @@
 
 # The basis functions of each input: `m` frequencies omega_j = pi j / (2
 # L) on [-L, L], L = `boundary` / 2 (the inputs' half-range times
-# `boundary`). m = 40, boundary = 10: every length scale with rho_delta in
-# [0.02, 0.98] within 0.025 of the kernel (test-fit-hsgp.R).
+# `boundary`). m = 40, boundary = 10: every length scale from rho_delta =
+# 0.02 to the floor's within 0.025 of the kernel (test-fit-hsgp.R).
 hsgp_design <- function(m = 40L, boundary = 10) {
   half_width <- boundary / 2
   list(m = m, boundary = boundary, half_width = half_width,
@@ -37,13 +38,16 @@ hsgp_phi <- function(x, design) {
 }
 
 # The variance of each basis function's coefficient: the spectral density
-# of exp(-beta_k d^2) / (p lambda) at its frequency (Riutort-Mayol et al.
-# 2023, Eq 1, squared length scale 1 / (2 beta_k)),
-#   S_k(omega) = (p lambda)^-1 sqrt(pi / beta_k) exp(-omega^2 / (4 beta_k)),
-# as hsgp_spectral() in koh_basis.stan.
+# of exp(-b_k d^2) / (p lambda) at its frequency (Riutort-Mayol et al.
+# 2023, Eq 1, squared length scale 1 / (2 b_k)), b_k = additive_beta(beta_k),
+#   S_k(omega) = (p lambda)^-1 sqrt(pi / b_k) exp(-omega^2 / (4 b_k)),
+# as hsgp_spectral() in koh_basis.stan. Without the floor on b_k, S would
+# vanish at every frequency as the length scale grows (the approximation
+# has no constant function), and the log density would change doubly
+# exponentially in logit(rho) near 1.
 hsgp_spectral <- function(design, beta, lambda) {
   p <- length(beta)
-  unlist(lapply(beta, function(b) {
+  unlist(lapply(additive_beta(beta), function(b) {
     exp(0.5 * log(pi / b) - log(p * lambda) - design$omega^2 / (4 * b))
   }))
 }

@@ -38,14 +38,21 @@ jittered_cor <- function(pair, beta, nugget) {
 
 # Squared-exponential covariance of the discrepancy: a product over the
 # inputs, or with `par$additive` their mean (fit-hsgp.R's kernel),
-#   (p lambda)^-1 sum_k exp(-beta_k d_k^2).
+#   (p lambda)^-1 sum_k exp(-additive_beta(beta_k) d_k^2).
 delta_cov <- function(pair, par) {
   if (isTRUE(par$additive)) {
-    terms <- Map(function(d, b) exp(-b * d), pair$d, par$beta_delta)
+    terms <- Map(function(d, b) exp(-b * d), pair$d, additive_beta(par$beta_delta))
     return(Reduce(`+`, terms) / (length(terms) * par$lambda_delta))
   }
   exp(-weighted_sum(pair$d, par$beta_delta)) / par$lambda_delta
 }
+
+# The additive kernel's inverse squared length scales: sqrt(beta^2 +
+# 0.08^2), so that no length scale exceeds that of rho_delta = 0.98 (2.5
+# input ranges, a kernel flat within 8 % over the inputs), the longest its
+# Hilbert-space approximation holds (R/fit-hsgp.R); as koh_basis.stan's
+# hsgp_spectral().
+additive_beta <- function(beta, floor = 0.08) sqrt(beta^2 + floor^2)
 
 # The emulator mean h(x, t)' b at rows x (scaled), all at the parameters t
 # (one row) or each at its own (a matrix): koh_functions.stan's

@@ -92,17 +92,18 @@
 #'   fit.
 #'   `"auto"` (the default) chooses `"basis"` for a modular fit of more
 #'   than 36 field rows, `"separable"` otherwise.
-#' @param discrepancy_kernel The discrepancy's Gaussian process: `"product"`, the
-#'   paper's, one squared-exponential kernel over all observable inputs
-#'   jointly, whose likelihood factors an n x n matrix per gradient; or
-#'   `"additive"`, a sum of one Gaussian process per input, each with its
-#'   own length scale and variance `1 / (p lambda_delta)`, in the
-#'   Hilbert-space approximation of Riutort-Mayol et al. (2023): 40 basis
-#'   functions per input, within 0.025 of the kernel's variance for
-#'   `rho_delta` from 0.02 to 0.98, so that a gradient's cost does not
-#'   grow with the rows (`bench/RESULTS.md`, "Discrepancy at scale"). Needs
-#'   the basis emulator and periods of one length. `"auto"` (the default)
-#'   is `"product"`.
+#' @param discrepancy_kernel The discrepancy's Gaussian process:
+#'   `"product"`, the paper's, one squared-exponential kernel over all
+#'   observable inputs jointly, whose likelihood factors an n x n matrix
+#'   per gradient; or `"additive"`, a sum of one Gaussian process per
+#'   input, each with its own length scale (at most that of `rho_delta =
+#'   0.98`, 2.5 input ranges: longer ones are flat over the data anyway)
+#'   and variance `1 / (p lambda_delta)`, in the Hilbert-space
+#'   approximation of Riutort-Mayol et al. (2023): 40 basis functions per
+#'   input, within 0.025 of the kernel's variance, so that a gradient's
+#'   cost does not grow with the rows (`bench/RESULTS.md`, "Gradient
+#'   cost"). Needs the basis emulator and periods of one length. `"auto"`
+#'   (the default) is `"product"`.
 #' @param minor_modes What to do with chains stuck in a minor mode of the
 #'   posterior: `"drop"` (the default) deals with them as below, with a
 #'   message; `"keep"` keeps every chain as it ran. Each chain's mode gets a

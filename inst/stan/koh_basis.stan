@@ -44,15 +44,17 @@ functions {
    * Hilbert-space approximate discrepancy (R/fit-hsgp.R; Riutort-Mayol,
    * Burkner, Andersen, Solin & Vehtari 2023, Stat Comput 33, Eq 1):
    * input k's m functions, at frequencies omega, have the spectral density
-   * of exp(-beta[k] d^2) / (p lambda),
-   *   (p lambda)^-1 sqrt(pi / beta[k]) exp(-omega^2 / (4 beta[k])). */
+   * of exp(-b d^2) / (p lambda), b = sqrt(beta[k]^2 + 0.08^2) (length
+   * scales at most 2.5 input ranges, R's additive_beta()),
+   *   (p lambda)^-1 sqrt(pi / b) exp(-omega^2 / (4 b)). */
   vector hsgp_spectral(vector omega, vector beta, real lambda) {
     int m = rows(omega);
     int p = rows(beta);
     vector[m * p] s;
     for (k in 1:p) {
-      s[((k - 1) * m + 1):(k * m)] = exp(0.5 * log(pi() / beta[k]) - log(p * lambda)
-                                         - square(omega) / (4 * beta[k]));
+      real b = sqrt(square(beta[k]) + square(0.08));
+      s[((k - 1) * m + 1):(k * m)] = exp(0.5 * log(pi() / b) - log(p * lambda)
+                                         - square(omega) / (4 * b));
     }
     return s;
   }

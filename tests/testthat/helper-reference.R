@@ -283,11 +283,13 @@ stage2_pars <- function(pars) {
 
 # The additive Hilbert-space discrepancy's covariance of two rows of
 # inputs, term by term: for each input k and basis function j = 1..m, the
-# spectral density of exp(-beta_k d^2) / (p lambda) at pi j / (2 L) times
+# spectral density of exp(-b_k d^2) / (p lambda), b_k = sqrt(beta_k^2 +
+# 0.08^2), at pi j / (2 L) times
 # the two sines L^-1/2 sin(pi j (x - 1/2 + L) / (2 L)).
 reference_hsgp_kernel <- function(m, boundary) {
   L <- boundary / 2
   function(a, b, beta, lambda) {
+    beta <- sqrt(beta^2 + 0.08^2)
     total <- 0
     for (k in seq_along(beta)) {
       for (j in seq_len(m)) {
