@@ -14,7 +14,7 @@ options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
 problems <- if (length(args) > 0) as.integer(args[1]) else 9L
 regions <- length(args) > 1 && as.logical(args[2])
-for (f in c("helper-weather.R", "helper-synthetic.R")) {
+for (f in c("helper-seed.R", "helper-weather.R", "helper-synthetic.R")) {
   sys.source(file.path("tests", "testthat", f), envir = globalenv())
 }
 kinds <- c("input", "covariate", "step", if (regions) "interaction")

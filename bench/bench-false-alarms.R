@@ -16,7 +16,7 @@ suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
 draws <- if (length(args) > 0) as.integer(args[1]) else 10L
-for (f in c("helper-weather.R", "helper-synthetic.R")) {
+for (f in c("helper-seed.R", "helper-weather.R", "helper-synthetic.R")) {
   sys.source(file.path("tests", "testthat", f), envir = globalenv())
 }
 causes <- c(none = NA, input = "^rh($| |,)", covariate = "^occupancy($| |,)",
