@@ -12,29 +12,30 @@
 # width, coverage of the measured use), max R-hat, divergences, the
 # sampling time and min bulk ESS per second.
 # Usage, from the package root, with bayesbem installed:
-#   Rscript bench/bench-discrepancy-kernel.R [problems, e.g. 1-3] [chains]
+#   Rscript bench/bench-discrepancy-kernel.R [problems, e.g. 1-3] [chains] [iter]
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE, width = 200)
 args <- commandArgs(trailingOnly = TRUE)
 span <- as.integer(strsplit(if (length(args) > 0) args[1] else "1-3", "-")[[1]])
 chains <- if (length(args) > 1) as.integer(args[2]) else 4L
+iter <- if (length(args) > 2) as.integer(args[3])
 
 one_fit <- function(problem, kernel, k) {
   held_out <- seq(6, nrow(problem$field), by = 6)
   start <- proc.time()[["elapsed"]]
   fit <- suppressWarnings(
     calibrate(problem$field[-held_out, ], problem$runs, discrepancy_kernel = kernel,
-              chains = chains, cores = 2, seed = k, refresh = 0),
+              chains = chains, iter = iter, cores = 2, seed = k, refresh = 0),
     classes = "bayesbem_warning_convergence")
   seconds <- proc.time()[["elapsed"]] - start
   s <- summary(fit)$parameters
   truth <- unlist(problem$truth)[rownames(s)]
   pred <- predict(fit, problem$field[held_out, names(problem$simulator$x)], noise = TRUE)
   obs <- problem$field$y[held_out]
-  draws <- posterior::subset_draws(posterior::as_draws(fit), variable = "tf")
+  draws <- posterior::subset_draws(posterior::as_draws(fit), variable = rownames(s))
   sampler <- attr(check_convergence(fit, warn = FALSE), "sampler")
   data.frame(problem = k, kernel = kernel, parameter = rownames(s), mean = s$mean, sd = s$sd,
-             mcse = posterior::summarise_draws(draws, posterior::mcse_mean)$mcse_mean,
+             mcse = posterior::summarise_draws(draws, "mcse_mean")$mcse_mean,
              covered = s$q5 <= truth & truth <= s$q95,
              width = mean(pred$q95 - pred$q5),
              held_out_covered = mean(pred$q5 <= obs & obs <= pred$q95),
