@@ -119,10 +119,10 @@ refine_region <- function(name, candidates, free, nuisance) {
 # does not beat, the one that explains most is named. Other terms are
 # returned as they are.
 simplest_region <- function(name, candidates, basis, mean_residual, null, alpha, main, labels) {
-  parts <- parse_region(name)
-  if (is.null(parts) || !nzchar(parts$effect)) {
+  if (!is_line(name)) {
     return(name)
   }
+  parts <- parse_region(name)
   step <- region_label("", parts$input, ">", parts$cut)
   others <- setdiff(names(candidates), parts$input)
   of_effect <- labels[vapply(labels, function(l) identical(parse_region(l)$effect, parts$effect),

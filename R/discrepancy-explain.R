@@ -167,11 +167,11 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
                     do.call(rbind, lapply(scores, `[[`, "summary")), row.names = NULL)
   # a line is tested and cross-validated as itself and as its slope alone
   # (a slope through zero, one column), each a term of the family
-  lines <- which(family == "region" & vapply(terms, ncol, integer(1)) == 2L)
-  free_mean <- qr.resid(nuisance, colMeans(residual))
+  lines <- which(vapply(names(terms), is_line, logical(1)))
+  free <- qr.resid(nuisance, mean_residual)
   null_free <- qr.resid(nuisance, null)
   slopes <- lapply(terms[lines], function(b) {
-    chance <- chance_z(b[, 2], free_mean, null_free, nuisance)
+    chance <- chance_z(b[, 2], free, null_free, nuisance)
     list(summary = data.frame(z = chance$z), null_z = chance$null_z)
   })
   p <- adjusted_p_values(c(scores, slopes), c(family, rep("region", length(lines))), weights)
@@ -179,12 +179,13 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   out$p_value[lines] <- pmin(out$p_value[lines], p[-seq_along(terms)])
   out$z[lines] <- pmax(out$z[lines], vapply(slopes, function(s) s$summary$z, numeric(1)))
   baseline <- press(basis, mean_residual)
-  out$cv_gain <- vapply(terms, function(b) cv_gain(mean_residual, basis, b, baseline), numeric(1))
+  out$cv_gain <- vapply(names(terms), function(l) {
+    cv_gain(mean_residual, basis, terms[[l]], baseline, is_line(l))
+  }, numeric(1), USE.NAMES = FALSE)
   out$explains <- out$p_value < alpha & out$cv_gain > 0
   # named regions get the cut the data put the edge at, and a line that
   # beats no simpler term beyond chance is named as that term; the test
   # stands (p_value and z are the grid term's), the rest is the named term's
-  free <- qr.resid(nuisance, mean_residual)
   region_labels <- names(terms)[family == "region"]
   for (i in which(out$explains & family == "region")) {
     label <- simplest_region(refine_region(out$candidate[i], candidates, free, nuisance),
@@ -194,7 +195,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
     names(terms)[i] <- out$candidate[i] <- label
     scores[[i]] <- term_scores(terms[[i]], residual, nuisance, null, level, blocks)
     out[i, c("share", "lower", "upper")] <- scores[[i]]$summary[c("share", "lower", "upper")]
-    out$cv_gain[i] <- cv_gain(mean_residual, basis, terms[[i]], baseline)
+    out$cv_gain[i] <- cv_gain(mean_residual, basis, terms[[i]], baseline, is_line(label))
     out$explains[i] <- out$cv_gain[i] > 0
   }
   out <- out[order(!out$explains, -out$share), ]

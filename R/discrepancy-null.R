@@ -177,15 +177,15 @@ press <- function(x, r) {
 # squares fit, e_i / (1 - h_ii). Positive when the term predicts left-out
 # rows (a term that only fits noise, or a few rows, makes PRESS larger).
 # The term's columns as free_columns() keeps them; 0 when none is left. A
-# line (two columns, step and slope) predicts when it or its slope alone
+# `line` (its step, then its slope) predicts when it or its slope alone
 # does.
-cv_gain <- function(r, basis, b, baseline = press(basis, r)) {
-  b <- cbind(b)
+cv_gain <- function(r, basis, b, baseline = press(basis, r), line = FALSE) {
   gain <- function(columns) {
     columns <- columns[, free_columns(columns, qr(basis)), drop = FALSE]
     if (ncol(columns) == 0L) 0 else 1 - press(cbind(basis, columns), r) / baseline
   }
-  if (ncol(b) == 2L) max(gain(b), gain(b[, 2, drop = FALSE])) else gain(b)
+  b <- cbind(b)
+  if (line) max(gain(b), gain(b[, 2, drop = FALSE])) else gain(b)
 }
 
 # The share of alpha each family of terms gets when regions are tried: the

@@ -20,15 +20,22 @@ hinge_label <- function(input, side, cut) {
   ifelse(rep_len(side == ">", n), above, sprintf("max(%s - %s, 0)", label, input))
 }
 
+# Whether a term's name is a region-specific line, "a, where b > c".
+is_line <- function(name) {
+  parts <- parse_region(name)
+  !is.null(parts) && nzchar(parts$effect)
+}
+
 # The columns a term adds to the discrepancy, named as covariate columns
 # (region_column_name()): a step "b > c" or a hinge, one column; a
-# region-specific line "a, where b > c" (a + b' a inside the region, 0
-# outside), two: the region's step "b>c" and the effect there "a:b>c", so
-# that its offset and slope are one cause. NULL as region_values().
+# region-specific line "a, where b > c" (an offset plus a slope in a inside
+# the region, 0 outside), two: the region's step "b>c" first and the
+# effect there "a:b>c", so that its offset and slope are one cause. NULL
+# as region_values().
 term_columns <- function(name, table) {
   parts <- parse_region(name)
   names <- region_column_name(name)
-  if (!is.null(parts) && nzchar(parts$effect)) {
+  if (is_line(name)) {
     names <- c(region_column_name(region_label("", parts$input, parts$side, parts$cut)), names)
   }
   columns <- lapply(stats::setNames(names, names), region_values, table = table)
