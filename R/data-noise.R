@@ -28,9 +28,108 @@ period_weights <- function(x, reference = noise_reference(x)) {
 # geometry `g` (gp_geometry()) holds the rows' weights.
 noise_var <- function(g, par) g$noise / par$lambda_e
 
+# The field rows' noise covariance for one draw: diag(noise_var()), or with
+# the draw's AR(1) coefficient phi, scaled by its correlation within the
+# rows' segments (`g$segments`); `extra`: a variance per row that shares
+# it (the basis emulator's truncated components).
+noise_cov <- function(g, par, extra = 0) {
+  v <- extra + noise_var(g, par)
+  phi <- par$phi %||% 0
+  if (phi == 0) {
+    return(diag(v, length(v)))
+  }
+  ar1_cor(phi, g$segments) * outer(sqrt(v), sqrt(v))
+}
+
+# AR(1)'s correlation matrix over rows in segments: phi^|i - j| within one.
+ar1_cor <- function(phi, segments) {
+  i <- seq_along(segments)
+  phi^abs(outer(i, i, "-")) * outer(segments, segments, "==")
+}
+
 # Observation noise N(0, w_i / lambda_e), standardised: draws (rows) by
-# periods of weights `w` (columns).
-noise_matrix <- function(draws, w) {
+# periods of weights `w` (columns); with a draw's AR(1) coefficient `phi`,
+# correlated within `segments` (noise_segments() of the periods).
+noise_matrix <- function(draws, w, segments = NULL) {
   sd_e <- 1 / sqrt(vapply(draws, `[[`, numeric(1), "lambda_e"))
-  matrix(stats::rnorm(length(draws) * length(w)), length(draws)) * outer(sd_e, sqrt(w))
+  phi <- vapply(draws, function(par) par$phi %||% 0, numeric(1))
+  z <- if (all(phi == 0)) {
+    matrix(stats::rnorm(length(draws) * length(w)), length(draws))
+  } else {
+    t(vapply(phi, ar1_series, numeric(length(w)), segments = segments))
+  }
+  z * outer(sd_e, sqrt(w))
+}
+
+# AR(1) noise (calibrate(noise_correlation = "ar1")): the errors of
+# consecutive periods correlate, e_i = phi e_(i-1) + sqrt(1 - phi^2) nu_i,
+# of stationary variance w / lambda_e (Box & Jenkins; its correlation
+# matrix R has phi^|i - j| within a run of consecutive periods, its
+# inverse is tridiagonal). Consecutive: rows in order whose times are one
+# step apart, the step the median difference; a gap or a step back starts
+# a new segment.
+
+# The segment of each row (1, 2, ...) from the rows' times (Date or POSIXct).
+noise_segments <- function(times) {
+  gaps <- diff(as.numeric(times))
+  if (length(gaps) == 0L) {
+    return(rep(1L, length(times)))
+  }
+  step <- stats::median(gaps)
+  cumsum(c(TRUE, !(step > 0 & abs(gaps - step) <= 1e-6 * step)))
+}
+
+# The segments of a data set's field rows from its period column, NULL
+# without one.
+data_segments <- function(data) {
+  period <- data$names$period
+  if (!is.null(period)) noise_segments(data$field[[period]])
+}
+
+# The segments of a data set's field rows, from its period column (an
+# error without one: which rows follow which is not in the inputs).
+field_segments <- function(data, call = rlang::caller_env()) {
+  segments <- data_segments(data)
+  if (is.null(segments)) {
+    abort_bayesbem(c("AR(1) noise needs the times of the field rows.",
+                     i = "Give the field a {.cls POSIXct} or {.cls Date} column (as {.fn field_hours} does: {.field time}), or name it with {.arg period} in {.fn koh_data}."),
+                   "argument", call = call)
+  }
+  segments
+}
+
+# The products a likelihood with AR(1) noise needs of the rows of z, given
+# their segments: `lag` = z'(S + S')z, S the lag-1 shift within segments,
+# `end` = z'Ez over the segments' first and last rows (a one-row segment's
+# twice) and the number of `segments`; then (1 - phi^2) z'R^-1 z = (1 +
+# phi^2) z'z - phi^2 end - phi lag.
+ar1_grams <- function(z, segments) {
+  n <- nrow(z)
+  lo <- which(segments[-1] == segments[-n])
+  cross <- crossprod(z[lo, , drop = FALSE], z[lo + 1L, , drop = FALSE])
+  ends <- c(which(!duplicated(segments)), which(!duplicated(segments, fromLast = TRUE)))
+  list(lag = cross + t(cross), end = crossprod(z[ends, , drop = FALSE]),
+       segments = length(unique(segments)))
+}
+
+# z'R^-1 z from z'z (`gram`) and ar1_grams() `ar`, for coefficient phi.
+ar1_weighted <- function(gram, ar, phi) {
+  if (phi == 0) {
+    return(gram)
+  }
+  ((1 + phi^2) * gram - phi^2 * ar$end - phi * ar$lag) / (1 - phi^2)
+}
+
+# A unit-variance AR(1) series over rows in segments, restarted
+# (stationary) at each segment's first row.
+ar1_series <- function(phi, segments) {
+  nu <- stats::rnorm(length(segments))
+  if (phi == 0) {
+    return(nu)
+  }
+  first <- !duplicated(segments)
+  nu[!first] <- sqrt(1 - phi^2) * nu[!first]
+  unlist(lapply(split(nu, segments), function(v) {
+    as.numeric(stats::filter(v, phi, method = "recursive"))
+  }), use.names = FALSE)
 }

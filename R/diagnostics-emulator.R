@@ -183,8 +183,7 @@ emulator_shift <- function(g, par, s) {
   we <- backsolve(r, s - fm$mean, transpose = TRUE)
   a <- solve(crossprod(wj))
   u <- backsolve(r, wj) %*% a
-  s_e <- fm$cov - delta_cov(g$ff, par)
-  diag(s_e) <- diag(s_e) - noise_var(g, par)
+  s_e <- fm$cov - delta_cov(g$ff, par) - noise_cov(g, par)
   list(shift = drop(a %*% crossprod(wj, we)), sd = sqrt(pmax(diag(crossprod(u, s_e %*% u)), 0)))
 }
 

@@ -157,7 +157,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   nuisance <- qr(basis)
   mean_of <- function(part) Reduce(`+`, lapply(given_runs, `[[`, part)) / length(given_runs)
   inflation <- emulator_inflation(g, pars)
-  null_cov <- inflation * mean_of("emulator") + diag(mean_of("noise"), data$n)
+  null_cov <- inflation * mean_of("emulator") + mean_of("noise")
   n <- data$n
   null <- with_seed(seed, crossprod(jittered_chol(null_cov), matrix(stats::rnorm(n * n_null), n)))
   mean_residual <- colMeans(residual)

@@ -6,13 +6,12 @@
 # For one draw: the field outputs' residual from the emulator's mean given
 # the runs (standardised, less any parametric discrepancy terms), and the
 # parts of its covariance without a discrepancy: the emulator's uncertainty
-# given the runs and the noise variance.
+# given the runs and the noise covariance.
 residual_given_runs <- function(g, par) {
   rg <- residual_geometry(g, par)
   fm <- field_given_runs(rg, par)
-  noise <- noise_var(g, par)
-  emulator <- fm$cov - delta_cov(g$ff, par)
-  diag(emulator) <- diag(emulator) - noise
+  noise <- noise_cov(g, par)
+  emulator <- fm$cov - delta_cov(g$ff, par) - noise
   list(residual = field_y(rg, par) - fm$mean, emulator = emulator, noise = noise)
 }
 

@@ -98,11 +98,12 @@ basis_eta <- function(basis, tf) {
 # The field outputs given the runs under the basis emulator, for one draw
 # (runs_field() of a basis fit): mean mu + B w(tf) (the emulator's; the
 # discrepancy terms h' gamma are the caller's, as for field_given_runs()),
-# covariance B diag(v(tf)) B' + Sigma_delta + s2r I + diag(noise) / lambda_e.
+# covariance B diag(v(tf)) B' + Sigma_delta + s2r I + diag(noise) / lambda_e
+# (with AR(1) noise, the last two times its correlation: noise_cov()).
 basis_field <- function(g, par) {
   basis <- g$basis
   eta <- basis_eta(basis, par$tf)
-  cov <- basis$B %*% (eta$var * t(basis$B)) + delta_cov(g$ff, par)
-  diag(cov) <- diag(cov) + basis$s2r + noise_var(g, par)
+  cov <- basis$B %*% (eta$var * t(basis$B)) + delta_cov(g$ff, par) +
+    noise_cov(g, par, basis$s2r)
   list(mean = eta$mean, cov = cov)
 }

@@ -7,7 +7,8 @@
 #' simulation table and given in their physical units; the correlation
 #' parameters `beta_eta[...]` and `beta_delta[...]` are labelled by input;
 #' `lambda_eta`, `lambda_delta` and `lambda_e` are precisions on the
-#' standardised output scale; `b[...]` are the coefficients of the emulator
+#' standardised output scale; `phi` (with `noise_correlation = "ar1"`) is
+#' the noise's AR(1) coefficient; `b[...]` are the coefficients of the emulator
 #' mean (see [koh_priors()]) on the standardised output scale per unit of
 #' the scaled \[0, 1\] inputs.
 #'
@@ -30,15 +31,16 @@ as_draws_array.bayesbem_fit <- function(x, ...) {
   d <- x$data
   h_names <- names(d$covariates)
   b_names <- mean_term_names(x$priors, d)
+  phi <- if (identical(x$settings$noise_correlation, "ar1")) "phi"
   arr <- unclass(posterior::subset_draws(
     x$draws, variable = c("tf", "beta_eta", "beta_delta", "lambda_eta", "lambda_delta",
-                          "lambda_e", if (length(h_names) > 0L) "gamma",
+                          "lambda_e", phi, if (length(h_names) > 0L) "gamma",
                           if (length(b_names) > 0L) "b", "lp__")))
   tf <- grep("^tf\\[", dimnames(arr)[[3]])
   for (k in seq_along(tf)) arr[, , tf[k]] <- unscale_t1(arr[, , tf[k]], d$scaling, k)
   dimnames(arr)[[3]] <- c(d$names$t, emulator_draw_names(d)$beta_eta,
                           sprintf("beta_delta[%s]", d$names$x),
-                          "lambda_eta", "lambda_delta", "lambda_e",
+                          "lambda_eta", "lambda_delta", "lambda_e", phi,
                           sprintf("gamma[%s]", h_names), emulator_draw_names(d, b_names)$b, "lp__")
   # discrepancy-term coefficients in output units per covariate unit
   for (k in seq_along(h_names)) {
@@ -151,14 +153,17 @@ print.summary.bayesbem_fit <- function(x, ...) {
   st <- x$settings
   cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters (%s likelihood%s)\n",
               x$data$n, x$data$m, x$data$p, x$data$q, st$structure %||% "dense",
-              if (identical(st$emulator, "basis")) ", modular, basis emulator" else
-                if (isTRUE(st$modular)) ", modular" else ""))
+              paste0(if (identical(st$emulator, "basis")) ", modular, basis emulator" else
+                       if (isTRUE(st$modular)) ", modular" else "",
+                     if (identical(st$discrepancy_kernel, "additive")) ", additive discrepancy",
+                     if (identical(st$noise_correlation, "ar1")) ", AR(1) noise")))
   cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions%s\n\n",
               st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent,
               minor_modes_label(st$dropped, st$restarted, st$kept_moved)))
   cat("Calibration parameters (physical units):\n")
   print_summary_table(x$parameters)
-  cat("\nGaussian-process hyperparameters (standardised scale):\n")
+  cat(sprintf("\nGaussian-process hyperparameters%s (standardised scale):\n",
+              if (identical(st$noise_correlation, "ar1")) " and the noise's AR(1) phi" else ""))
   print_summary_table(x$hyperparameters)
   if (!is.null(x$emulator)) {
     cat(sprintf("\nEmulator (standardised scale), fixed at its posterior mode given the runs (stage 1, %s):\n",

@@ -93,9 +93,9 @@ mean_term_names <- function(priors, data) {
 output_elements <- function(k, p, q, n_b, n_h) {
   block <- function(size) (k - 1L) * size + seq_len(size)
   list(elements = list(rho_delta = block(p), beta_delta = block(p), beta_eta = block(p + q),
-                       b = block(n_b), lambda_delta = k, lambda_e = k, lambda_eta = k,
+                       b = block(n_b), lambda_delta = k, lambda_e = k, lambda_eta = k, phi = k,
                        gamma = sum(n_h[seq_len(k - 1L)]) + seq_len(n_h[k])),
-       scalars = c("lambda_delta", "lambda_e", "lambda_eta"))
+       scalars = c("lambda_delta", "lambda_e", "lambda_eta", "phi"))
 }
 
 # output_elements() of each output of a modular fit's data, by output.

@@ -228,7 +228,7 @@ stage2_inits <- function(init, emulator) {
 # and the pieces of each output's basis emulator (`emulator$basis`),
 # stacked by output: its rows and its components a block of the bases `B`;
 # with an hsgp_design() `hsgp`, the additive discrepancy's (hsgp_stan_data()).
-basis_stan_data <- function(data, priors, emulator, hsgp = NULL) {
+basis_stan_data <- function(data, priors, emulator, hsgp = NULL, ar1 = FALSE) {
   bases <- lapply(output_emulators(data, emulator), `[[`, "basis")
   gps <- unlist(lapply(bases, `[[`, "components"), recursive = FALSE)
   mt <- nrow(bases[[1]]$tc)
@@ -244,26 +244,38 @@ basis_stan_data <- function(data, priors, emulator, hsgp = NULL) {
                w_s2 = as.array(vapply(gps, `[[`, numeric(1), "s2")),
                w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
                w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
-  hsgp_stan_data(sd, hsgp)
+  segments <- if (ar1) lapply(output_data(data), field_segments)
+  hsgp_stan_data(sd, hsgp, segments)
 }
 
 # koh_basis.stan's data of the additive Hilbert-space discrepancy added to
 # its data `sd`: the frequencies, and each output's Gram matrix of Z_k =
 # [B_k, Phi_k, y_k - mu_f_k, h_k] on the diagonal of `gram`, the only use
-# the likelihood makes of the rows. None (hsgp = 0) when `design` is NULL.
-hsgp_stan_data <- function(sd, design) {
+# the likelihood makes of the rows; with AR(1) noise (`segments`, each
+# output's noise_segments()), its ar1_grams() on the diagonals of
+# `gram_lag` and `gram_end`. None (hsgp = 0) when `design` is NULL.
+hsgp_stan_data <- function(sd, design, segments = NULL) {
+  none <- list(ar = 0L, gram_lag = matrix(0, 0, 0), gram_end = matrix(0, 0, 0),
+               n_seg = numeric(0))
   if (is.null(design)) {
-    return(c(sd, list(hsgp = 0L, m = 0L, omega = numeric(0), n_z = 0L, gram = matrix(0, 0, 0))))
+    return(c(sd, list(hsgp = 0L, m = 0L, omega = numeric(0), n_z = 0L, gram = matrix(0, 0, 0)),
+             none))
   }
-  grams <- lapply(seq_len(sd$K), function(k) {
+  z <- lapply(seq_len(sd$K), function(k) {
     rows <- sd$output == k
-    crossprod(cbind(sd$B[rows, sd$pc_output == k, drop = FALSE],
-                    hsgp_phi(sd$xf[rows, , drop = FALSE], design),
-                    sd$y[rows] - sd$mu_f[rows], sd$h[rows, , drop = FALSE]))
+    cbind(sd$B[rows, sd$pc_output == k, drop = FALSE], hsgp_phi(sd$xf[rows, , drop = FALSE], design),
+          sd$y[rows] - sd$mu_f[rows], sd$h[rows, , drop = FALSE])
   })
-  gram <- block_diagonal(grams)
-  c(sd, list(hsgp = 1L, m = design$m, omega = as.array(design$omega), n_z = nrow(gram),
-             gram = gram))
+  gram <- block_diagonal(lapply(z, crossprod))
+  out <- c(sd, list(hsgp = 1L, m = design$m, omega = as.array(design$omega), n_z = nrow(gram),
+                    gram = gram))
+  if (is.null(segments)) {
+    return(c(out, none))
+  }
+  ar <- Map(ar1_grams, z, segments)
+  c(out, list(ar = 1L, gram_lag = block_diagonal(lapply(ar, `[[`, "lag")),
+              gram_end = block_diagonal(lapply(ar, `[[`, "end")),
+              n_seg = as.array(vapply(ar, `[[`, numeric(1), "segments"))))
 }
 
 # The scale koh_basis.stan samples tf on, passed to it as data: `edge`, the

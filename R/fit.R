@@ -103,7 +103,22 @@
 #'   input, within 0.025 of the kernel's variance, so that a gradient's
 #'   cost does not grow with the rows (`bench/RESULTS.md`, "Gradient
 #'   cost"). Needs the basis emulator and periods of one length. `"auto"`
-#'   (the default) is `"product"`.
+#'   (the default) is `"additive"` above 400 field rows (in the largest
+#'   output) when it can be, `"product"` otherwise: the posteriors agree
+#'   where both run (`bench/RESULTS.md`, "Discrepancy kernel at 365
+#'   days").
+#' @param noise_correlation The observation noise's correlation between
+#'   consecutive periods: `"none"`, independent noise (the paper's); or
+#'   `"ar1"`, an AR(1) process over periods one step apart (hourly
+#'   residuals persist for hours), with its coefficient `phi` sampled
+#'   (flat prior on (-1, 1)); the emulator's truncated components share
+#'   it. A gap in the times or a step back starts a new run of
+#'   consecutive periods. Needs `discrepancy_kernel = "additive"`, whose
+#'   likelihood it keeps at the same cost, and the field rows' times (the
+#'   data's `period` column, e.g. [field_hours()]'s `time`). Predictions
+#'   with noise, scenarios and savings then draw AR(1) noise over their
+#'   periods, so that a total over many hours carries the correlation.
+#'   `"auto"` (the default) is `"none"`.
 #' @param minor_modes What to do with chains stuck in a minor mode of the
 #'   posterior: `"drop"` (the default) deals with them as below, with a
 #'   message; `"keep"` keeps every chain as it ran. Each chain's mode gets a
@@ -193,7 +208,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       structure = c("auto", "grid", "dense"), covariates = NULL,
                       modular = "auto", emulator = c("auto", "separable", "basis"),
                       discrepancy_kernel = c("auto", "product", "additive"),
-                      minor_modes = c("drop", "keep"),
+                      noise_correlation = c("auto", "none", "ar1"), minor_modes = c("drop", "keep"),
                       progress = getOption("bayesbem.progress", TRUE), ...) {
   data <- as_koh_data(field, sim)
   several <- inherits(data, "bayesbem_outputs")
@@ -219,7 +234,9 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   emulator_type <- choose_emulator(match_choice(emulator), modular, data)
   discrepancy_kernel <- choose_discrepancy_kernel(match_choice(discrepancy_kernel), emulator_type,
                                                   data)
-  defaults <- default_sampling(modular, largest_output(data), emulator_type)
+  noise_correlation <- choose_noise_correlation(match_choice(noise_correlation),
+                                                discrepancy_kernel, data)
+  defaults <- default_sampling(modular, largest_output(data), emulator_type, discrepancy_kernel)
   check_count(chains)
   check_count(cores)
   lengths <- sampling_lengths(iter, warmup, defaults)
@@ -243,8 +260,9 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   # `emulator` names the choice; stage 1 is the fitted emulator (of each output)
   stage1 <- if (modular) fit_stage1(data, priors, seed, sampler$on_failure, emulator_type)
   if (modular) sampler$args$init <- stage2_inits(sampler$args$init, emulator_type)
+  hsgp <- if (discrepancy_kernel == "additive") hsgp_design()
   program <- stan_program(data, priors, stage1, emulator_type, modular, structure, predict_at,
-                          discrepancy_kernel)
+                          hsgp, noise_correlation == "ar1")
   model <- program$model
   stan_data <- program$data
   label <- sprintf("%s %d chain%s", if (modular) "Stage 2: sampling" else "Sampling", chains,
@@ -253,7 +271,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                                       sampler))
   settings <- list(chains = chains, iter = iter, warmup = warmup, seed = seed, control = control,
                    structure = structure, modular = modular, emulator = emulator_type,
-                   discrepancy_kernel = discrepancy_kernel, minor_modes = minor_modes,
+                   discrepancy_kernel = discrepancy_kernel, hsgp = hsgp,
+                   noise_correlation = noise_correlation, minor_modes = minor_modes,
                    lapack = lapack, dropped = attr(stanfit, "dropped"),
                    restarted = restarted_chains(stanfit), kept_moved = attr(stanfit, "kept_moved"))
   fit <- stanfit_fit(stanfit, data, priors, settings, emulator = stage1,
@@ -272,13 +291,13 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
 #   joint, grid likelihood       koh_grid.stan     koh_stan_data()
 #   modular, separable emulator  koh_modular.stan  modular_stan_data()
 #   modular, basis emulator      koh_basis.stan    basis_stan_data()
-#     (additive discrepancy: its hsgp block)
+#     (additive discrepancy, an hsgp_design() `hsgp`: its hsgp block)
 # Stage 1 of a modular fit is koh_emulator.stan (emulator_stan_data()).
 stan_program <- function(data, priors, stage1, emulator, modular, structure, predict_at,
-                         discrepancy_kernel = "product") {
+                         hsgp = NULL, ar1 = FALSE) {
   if (emulator == "basis") {
-    hsgp <- if (discrepancy_kernel == "additive") hsgp_design()
-    return(list(model = stanmodels$koh_basis, data = basis_stan_data(data, priors, stage1, hsgp)))
+    return(list(model = stanmodels$koh_basis,
+                data = basis_stan_data(data, priors, stage1, hsgp, ar1)))
   }
   if (modular) {
     return(list(model = stanmodels$koh_modular, data = modular_stan_data(data, priors, stage1)))
@@ -316,8 +335,13 @@ fit_stage1 <- function(data, priors, seed, on_failure, emulator) {
 # The iterations and sampler control of a fit whose caller gives none: for
 # each size and emulator, what converged most often in the reliability
 # benchmark (bench/RESULTS.md, "Reliability"; why in inst/notes/design.md,
-# "Sampling" and "Stage-2 geometry").
-default_sampling <- function(modular, n, emulator = "separable") {
+# "Sampling" and "Stage-2 geometry"); for the additive discrepancy, 500 +
+# 500 (bench/RESULTS.md, "A year of hours").
+default_sampling <- function(modular, n, emulator = "separable", kernel = "product") {
+  if (kernel == "additive") {
+    return(list(iter = 1000L, warmup = 500L,
+                control = list(adapt_delta = 0.95, metric = "dense_e")))
+  }
   if (modular && n > 36L && emulator == "basis") {
     return(list(iter = 3000L, warmup = 1000L,
                 control = list(adapt_delta = 0.95, metric = "dense_e")))
@@ -446,11 +470,20 @@ available_memory <- function() {
   as.numeric(gsub("[^0-9]", "", line)) * 1024
 }
 
-# discrepancy_kernel = "auto": the product kernel of the paper. "additive" (the
-# Hilbert-space approximation, R/fit-hsgp.R) needs the basis emulator and
-# periods of one length within each output (its noise a multiple of the
-# identity).
+# discrepancy_kernel = "auto": the product kernel of the paper up to
+# `additive_rows` rows of the largest output, where its n x n factor is
+# cheap (a year of daily data: the size the reliability benchmark and the
+# real bills measure it at); "additive" above, where that factor grows as
+# n^3, when the fit can take it. "additive" (the Hilbert-space
+# approximation, R/fit-hsgp.R) needs the basis emulator and periods of one
+# length within each output (its noise a multiple of the identity).
 choose_discrepancy_kernel <- function(kernel, emulator, data, call = rlang::caller_env()) {
+  unequal <- vapply(output_data(data), function(d) diff(range(noise_weights(d))) > 1e-12,
+                    logical(1))
+  if (kernel == "auto") {
+    large <- largest_output(data) > additive_rows && emulator == "basis" && !any(unequal)
+    return(if (large) "additive" else "product")
+  }
   if (kernel != "additive") {
     return("product")
   }
@@ -459,14 +492,31 @@ choose_discrepancy_kernel <- function(kernel, emulator, data, call = rlang::call
                      i = "Use {.code emulator = \"basis\"} (a modular fit on a grid design)."),
                    "argument", call = call)
   }
-  unequal <- vapply(output_data(data), function(d) diff(range(noise_weights(d))) > 1e-12,
-                    logical(1))
   if (any(unequal)) {
     abort_bayesbem(c("The additive discrepancy needs periods of one length in each output.",
                      i = "The field's {.field days} differ between rows; use {.code discrepancy_kernel = \"product\"}."),
                    "argument", call = call)
   }
   "additive"
+}
+
+additive_rows <- 400L
+
+# noise_correlation = "auto": "none" (white noise, the paper's). "ar1"
+# needs the additive discrepancy (its likelihood reads the rows through
+# Gram matrices, which the AR(1) precision keeps tridiagonal) and the field
+# rows' times (field_segments()).
+choose_noise_correlation <- function(correlation, kernel, data, call = rlang::caller_env()) {
+  if (correlation != "ar1") {
+    return("none")
+  }
+  if (kernel != "additive") {
+    abort_bayesbem(c("AR(1) noise needs the additive discrepancy.",
+                     i = "Use {.code discrepancy_kernel = \"additive\"} (with the basis emulator)."),
+                   "argument", call = call)
+  }
+  for (d in output_data(data)) field_segments(d, call = call)
+  "ar1"
 }
 
 # emulator = "auto": the basis emulator for a modular fit of more than 36

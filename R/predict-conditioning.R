@@ -10,11 +10,13 @@
 # "xx" and "sx" (grid inputs, field inputs first), "tt" over the runs and the
 # output matrix `E` (grid input by run). `basis`: a fit's basis emulator
 # (basis_emulator()), which runs_field() then reads. `noise`: the field
-# rows' noise weights (noise_weights()).
+# rows' noise weights (noise_weights()); `segments`: their AR(1) segments
+# (data_segments()).
 gp_geometry <- function(data, x_new = NULL, structure = "dense", basis = NULL) {
   g <- list(structure = structure, n = data$n, m = data$m, p = data$p, y = data$y,
             h = discrepancy_design(data), ff = pair_geometry(data$xf, data$xf),
-            xf = data$xf, x_new = x_new, basis = basis, noise = noise_weights(data))
+            xf = data$xf, x_new = x_new, basis = basis, noise = noise_weights(data),
+            segments = data_segments(data))
   if (structure == "grid") {
     grid <- data$grid
     g$tc <- grid$design
@@ -52,11 +54,13 @@ draw_parameters <- function(fit, ndraws = NULL) {
   select <- mean_selection(fit$priors, fit$data$p, fit$data$q)
   coef <- if (ncol(select) > 0L) get("b") %*% t(select) else matrix(0, nrow(tf), nrow(select))
   idx <- draw_subset(nrow(tf), ndraws)
-  additive <- identical(fit$settings$discrepancy_kernel, "additive")
+  additive <- is_additive(fit)
+  phi <- if (identical(fit$settings$noise_correlation, "ar1")) get("phi") else matrix(0, nrow(tf))
   draws <- lapply(idx, function(i) {
     list(tf = tf[i, ], beta_eta = beta_eta[i, ], beta_delta = beta_delta[i, ],
          lambda_eta = lambda[i, 1], lambda_delta = lambda[i, 2], lambda_e = lambda[i, 3],
-         gamma = gamma[i, ], coef = coef[i, ], nugget = fit$priors$nugget, additive = additive)
+         gamma = gamma[i, ], coef = coef[i, ], nugget = fit$priors$nugget, additive = additive,
+         phi = phi[i, 1])
   })
   structure(draws, index = idx)
 }
@@ -89,7 +93,7 @@ eta_cov <- function(pair, dg, par, to_design = FALSE) {
 # with the jitter of koh_cov()).
 koh_sigma_z <- function(g, par, dg = draw_geometry(g, par)) {
   s_ff <- eta_cov(g$ff, dg, par) + delta_cov(g$ff, par)
-  diag(s_ff) <- diag(s_ff) + noise_var(g, par)
+  s_ff <- s_ff + noise_cov(g, par)
   s_fc <- eta_cov(g$fc, dg, par, to_design = TRUE)
   s_cc <- jittered_cor(g$cc, dg$bx, par$nugget) * jittered_cor(g$tt, dg$bt, par$nugget) /
     par$lambda_eta
@@ -167,7 +171,7 @@ field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
     c_t <- 1 + par$nugget - s
     f <- g$field
     cov <- c_t * kx[f, f] / par$lambda_eta + delta_cov(g$ff, par)
-    diag(cov) <- diag(cov) + noise_var(g, par)
+    cov <- cov + noise_cov(g, par)
     mean_x <- drop(g$E %*% backsolve(r_t, v))
     return(list(mean = mean_x[f], cov = cov, kx = kx, mean_x = mean_x, s = s, c = c_t))
   }

@@ -4,30 +4,41 @@
 
 # Draws (rows) by points (columns) of y, eta and delta in physical units,
 # sampled jointly per posterior draw so that y = eta + delta (+ noise); and
-# the tf draws (rows, [0, 1] scale) they were conditioned on.
-predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE) {
+# the tf draws (rows, [0, 1] scale) they were conditioned on. `types`: which
+# of y and eta are needed besides delta (an additive fit's eta is known
+# only at the field rows; NA when not needed).
+predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE, types = c("y", "eta")) {
   data <- fit$data
-  g <- gp_geometry(data, scale_newdata(data, newdata), fit_structure(fit))
   pars <- draw_parameters(fit, ndraws)
-  n_new <- nrow(newdata)
-  joint <- vapply(pars, function(par) {
-    cond <- koh_conditional(g, par)
-    rmvnorm_psd(cond$mean, cond$cov)
-  }, numeric(2 * n_new))
-  joint <- matrix(joint, nrow = 2 * n_new)
-  eta <- t(joint[seq_len(n_new), , drop = FALSE])
-  delta <- t(joint[n_new + seq_len(n_new), , drop = FALSE])
+  joint <- if (is_additive(fit)) additive_joint(fit, newdata, pars, types) else
+    gp_joint(fit, newdata, pars)
+  eta <- joint$eta
+  delta <- joint$delta
   if (length(data$covariates) > 0L) {
     gamma <- do.call(rbind, lapply(pars, `[[`, "gamma"))
     delta <- delta + gamma %*% t(scale_covariates(data, newdata))
   }
   y <- eta + delta
   if (noise) {
-    y <- y + noise_matrix(pars, noise_weights(data, newdata))
+    y <- y + noise_matrix(pars, noise_weights(data, newdata), noise_rows(fit, newdata))
   }
   s <- data$scaling
   list(y = unscale_y(y, s), eta = unscale_y(eta, s), delta = unscale_y_spread(delta, s),
        tf = do.call(rbind, lapply(pars, `[[`, "tf")))
+}
+
+# Draws (rows) by new rows (columns) of eta and delta, scaled, from the
+# Gaussian processes' joint conditional (koh_conditional()) per draw.
+gp_joint <- function(fit, newdata, pars) {
+  g <- gp_geometry(fit$data, scale_newdata(fit$data, newdata), fit_structure(fit))
+  n_new <- nrow(newdata)
+  joint <- vapply(pars, function(par) {
+    cond <- koh_conditional(g, par)
+    rmvnorm_psd(cond$mean, cond$cov)
+  }, numeric(2 * n_new))
+  joint <- matrix(joint, nrow = 2 * n_new)
+  list(eta = t(joint[seq_len(n_new), , drop = FALSE]),
+       delta = t(joint[n_new + seq_len(n_new), , drop = FALSE]))
 }
 
 # The likelihood structure a fit was made with (fits made before 0.2.0 are dense).

@@ -8,7 +8,8 @@
 predict_outputs <- function(object, newdata, type, ndraws, summary, noise, level, total) {
   inputs <- outputs_newdata(object, newdata)
   draws <- lapply(stats::setNames(names(inputs), names(inputs)), function(k) {
-    predict_draws(object$outputs[[k]], inputs[[k]], ndraws = ndraws, noise = noise)[[type]]
+    predict_draws(object$outputs[[k]], inputs[[k]], ndraws = ndraws, noise = noise,
+                  types = type)[[type]]
   })
   if (!is.null(total)) {
     check_total_weights(total, inputs)

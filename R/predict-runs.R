@@ -142,17 +142,26 @@ scenario_delta <- function(fit, inputs, simulated, draws) {
                     "extrapolation")
       invokeRestart("muffleWarning")
     })
-  g <- gp_geometry(data, x, fit_structure(fit))
-  s <- scale_y(simulated, data$scaling)
-  delta <- t(vapply(seq_along(draws), function(i) {
-    delta_given_eta(koh_conditional(g, draws[[i]]), s[i, ])
-  }, numeric(ncol(s))))
-  delta <- matrix(delta, nrow = length(draws))
+  delta <- if (is_additive(fit)) {
+    additive_joint(fit, inputs, draws, types = "delta", x_new = x)$delta
+  } else {
+    gp_delta_given_eta(fit, x, scale_y(simulated, data$scaling), draws)
+  }
   if (length(data$covariates) > 0L) {
     gamma <- do.call(rbind, lapply(draws, `[[`, "gamma"))
     delta <- delta + gamma %*% t(scale_covariates(data, inputs))
   }
   unscale_y_spread(delta, data$scaling)
+}
+
+# delta at scaled inputs x given the simulator's outputs s there (draws by
+# rows), one draw each from delta_given_eta().
+gp_delta_given_eta <- function(fit, x, s, draws) {
+  g <- gp_geometry(fit$data, x, fit_structure(fit))
+  delta <- vapply(seq_along(draws), function(i) {
+    delta_given_eta(koh_conditional(g, draws[[i]]), s[i, ])
+  }, numeric(ncol(s)))
+  t(matrix(delta, ncol = length(draws)))
 }
 
 # One draw of delta from the joint Gaussian (eta, delta) of
@@ -175,8 +184,32 @@ delta_given_eta <- function(cond, s) {
 }
 
 # Observation noise N(0, w_i / lambda_e) of each draw (rows) at each period
-# of a table of inputs (columns), physical units.
-noise_draws <- function(fit, draws, x) {
-  fit$data$scaling$y_scale * noise_matrix(draws, noise_weights(fit$data, x))
+# of a table of inputs (columns), physical units; AR(1) over the periods'
+# `times` for a fit with AR(1) noise.
+noise_draws <- function(fit, draws, x, times = NULL) {
+  fit$data$scaling$y_scale *
+    noise_matrix(draws, noise_weights(fit$data, x), noise_rows(fit, x, times))
+}
+
+# The AR(1) segments of the rows of `x` for a fit with AR(1) noise (NULL
+# for white noise): from `times`, else x's period column, else the field
+# rows' when x is the field rows in order.
+noise_rows <- function(fit, x, times = NULL, call = rlang::caller_env()) {
+  if (!identical(fit$settings$noise_correlation, "ar1")) {
+    return(NULL)
+  }
+  data <- fit$data
+  period <- data$names$period
+  times <- times %||% if (!is.null(period)) x[[period]]
+  if (!is.null(times)) {
+    return(noise_segments(times))
+  }
+  same <- nrow(x) == data$n && all(value_keys(x[data$names$x]) == value_keys(data$field[data$names$x]))
+  if (!same) {
+    abort_bayesbem(c("Noise of a fit with AR(1) noise needs the times of the rows.",
+                     i = "Give {.arg newdata} the column {.field {period %||% \"time\"}}, or leave out the noise."),
+                   "columns", call = call)
+  }
+  field_segments(data, call = call)
 }
 

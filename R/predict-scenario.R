@@ -92,7 +92,7 @@ predict_scenario <- function(fit, scenario, ndraws = 40,
     if (discrepancy == "proportional") delta * simulated / calibrated else delta
   }
   y <- simulated + delta
-  if (noise) y <- y + noise_draws(fit, runs$draws, scenario$simulator$x)
+  if (noise) y <- y + noise_draws(fit, runs$draws, scenario$simulator$x, scenario$simulator$periods$start)
   structure(list(y = y, simulated = simulated, delta = delta, inputs = scenario$simulator$x,
                  draw = runs$index, scenario = scenario, discrepancy = discrepancy,
                  noise = noise),

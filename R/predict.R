@@ -82,7 +82,7 @@ predict.bayesbem_fit <- function(object, newdata = NULL, type = c("y", "eta", "d
     newdata <- object$predict_at
   } else {
     newdata <- newdata %||% field_inputs(object$data)
-    draws <- predict_draws(object, newdata, ndraws = ndraws, noise = noise)[[type]]
+    draws <- predict_draws(object, newdata, ndraws = ndraws, noise = noise, types = type)[[type]]
   }
   if (!summary) {
     return(draws)

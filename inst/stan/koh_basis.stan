@@ -59,12 +59,13 @@ functions {
     return s;
   }
 
-  /* Log density of r ~ N(0, U diag(c) U' + d I), r of n_r elements, from
-   * rr = r'r, ur = U'r and uu = U'U alone: with s = sqrt(c) and A = I +
-   * diag(s) U'U diag(s) / d (Woodbury's identity and the determinant
-   * lemma; Rasmussen & Williams 2006, Eqs A.9 and A.10),
-   *   r' Sigma^-1 r = (r'r - b' A^-1 b) / d, b = diag(s) U'r / sqrt(d),
-   *   log|Sigma| = log|A| + n_r log(d).
+  /* Log density of r ~ N(0, U diag(c) U' + d R), r of n_r elements, less
+   * log|R| / 2 (the caller's), from rr = r'R^-1 r, ur = U'R^-1 r and uu =
+   * U'R^-1 U alone: with s = sqrt(c) and A = I + diag(s) U'R^-1 U diag(s) / d
+   * (Woodbury's identity and the determinant lemma; Rasmussen & Williams
+   * 2006, Eqs A.9 and A.10),
+   *   r' Sigma^-1 r = (rr - b' A^-1 b) / d, b = diag(s) ur / sqrt(d),
+   *   log|Sigma| = log|A| + n_r log(d) + log|R|.
    * One Cholesky factor of a matrix of U's columns: no cost in the rows. */
   real normal_lowrank(real rr, vector ur, matrix uu, vector c, real d, int n_r) {
     int r = rows(c);
@@ -108,12 +109,22 @@ data {
   vector<lower=0>[m] omega;
   int<lower=0> n_z;                      // hsgp * (pc + K (m p + 1 + n_h))
   matrix[n_z, n_z] gram;
+  // ar = 1 (with hsgp): the truncated components and the noise AR(1) over
+  // consecutive rows, coefficient phi[k] (R/data-noise.R): gram_lag holds
+  // Z_k' (S + S') Z_k, S the lag within segments of consecutive rows,
+  // gram_end Z_k' E Z_k, E the segments' first and last rows (a one-row
+  // segment's twice), n_seg each output's number of segments
+  int<lower=0, upper=1> ar;
+  matrix[ar * n_z, ar * n_z] gram_lag;
+  matrix[ar * n_z, ar * n_z] gram_end;
+  vector<lower=1>[ar * K] n_seg;
 }
 parameters {
   // calibration parameters, tf = g(tf_u), sampled as tf_u / tf_multiplier
   vector<multiplier=tf_multiplier>[q] tf_u;
   // rho_delta, lambda_delta, lambda_e (each output's), gamma
 #include /include/koh_stage2_parameters.stan
+  vector<lower=-1, upper=1>[ar * K] phi; // each output's AR(1) coefficient (uniform prior)
 }
 transformed parameters {
   vector[q] tf = linear_box_lp(tf_u, tf_edge);
@@ -129,17 +140,31 @@ model {
     int c = output_start(pc_output, k);
     int pc_k = output_size(pc_output, k);
     if (hsgp) {
-      // r = Z_k a, a = (-w, 0, 1, -gamma): r'r = a' G a, U'r = (G a)[1:u]
+      // r = Z_k a, a = (-w, 0, 1, -gamma), errors N(0, d R): r'R^-1 r = a' G a and
+      // U'R^-1 r = (G a)[1:u], G = Z_k' R^-1 Z_k; R = I, or with AR(1) errors
+      // (1 - phi^2) R^-1 = (1 + phi^2) I - phi^2 E - phi (S + S') (tridiagonal
+      // within segments) and log|R| = (rows - segments) log(1 - phi^2)
       int u = pc_k + m * p;
+      int nz = u + 1 + n_h;
       int z = c + (k - 1) * (m * p + 1 + n_h);
-      vector[u + 1 + n_h] a = append_row(append_row(-segment(wv, c, pc_k), rep_vector(0, m * p)),
-                                         append_row(rep_vector(1, 1), -gamma));
-      vector[u + 1 + n_h] ga = block(gram, z, z, u + 1 + n_h, u + 1 + n_h) * a;
-      target += normal_lowrank(dot_product(a, ga), head(ga, u), block(gram, z, z, u, u),
+      matrix[nz, nz] g = block(gram, z, z, nz, nz);
+      real log_det_r = 0;
+      vector[nz] a = append_row(append_row(-segment(wv, c, pc_k), rep_vector(0, m * p)),
+                                append_row(rep_vector(1, 1), -gamma));
+      vector[nz] ga;
+      if (ar) {
+        real f2 = square(phi[k]);
+        g = ((1 + f2) * g - f2 * block(gram_end, z, z, nz, nz)
+             - phi[k] * block(gram_lag, z, z, nz, nz)) / (1 - f2);
+        log_det_r = (len - n_seg[k]) * log1m(f2);
+      }
+      ga = g * a;
+      target += normal_lowrank(dot_product(a, ga), head(ga, u), block(g, 1, 1, u, u),
                                append_row(segment(wv, pc + c, pc_k),
                                           hsgp_spectral(omega, segment(beta_delta, (k - 1) * p + 1, p),
                                                         lambda_delta[k])),
-                               s2r[k] + noise_weight[s] / lambda_e[k], len);
+                               s2r[k] + noise_weight[s] / lambda_e[k], len)
+                - 0.5 * log_det_r;
     } else {
       target += normal_basis_lpdf(segment(y, s, len) - segment(mu_f, s, len)
                                 - block(B, s, c, len, pc_k) * segment(wv, c, pc_k)

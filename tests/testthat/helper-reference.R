@@ -232,8 +232,9 @@ random_outputs_data <- function(n = 7, runs = 6, extra = 1) {
 # field outputs' mean and covariance, and stage 2's log density with R's own
 # density functions. `kernel(a, b, beta_delta, lambda_delta)`: the
 # discrepancy's covariance of two rows of inputs, by default the product
-# squared-exponential kernel.
-reference_basis <- function(sd, basis, pars, kernel = NULL) {
+# squared-exponential kernel. `noise_cor`: the correlation of the truncated
+# components and the noise between rows (by default none).
+reference_basis <- function(sd, basis, pars, kernel = NULL, noise_cor = diag(sd$n)) {
   if (is.null(kernel)) kernel <- function(a, b, beta, lambda) exp(-sum(beta * (a - b)^2)) / lambda
   tc <- basis$tc
   mt <- nrow(tc)
@@ -257,7 +258,7 @@ reference_basis <- function(sd, basis, pars, kernel = NULL) {
     for (j in seq_len(n)) {
       cov[i, j] <- sum(basis$B[i, ] * comp[2, ] * basis$B[j, ]) +
         kernel(sd$xf[i, ], sd$xf[j, ], beta_delta, pars$lambda_delta) +
-        (i == j) * (basis$s2r + sd$noise_weight[i] / pars$lambda_e)
+        noise_cor[i, j] * (basis$s2r + sd$noise_weight[i] / pars$lambda_e)
     }
   }
   mean <- basis$mu + drop(basis$B %*% comp[1, ])
@@ -273,11 +274,13 @@ reference_basis <- function(sd, basis, pars, kernel = NULL) {
 }
 
 # One output's stage-2 parameters as the stage-2 programs take them: the
-# precisions lambda_delta and lambda_e are vectors, one element per output.
+# precisions lambda_delta and lambda_e and koh_basis.stan's AR(1) phi
+# (none without AR(1) noise) are vectors, one element per output.
 stage2_pars <- function(pars) {
-  pars <- pars[intersect(c("tf", "tf_u", "rho_delta", "lambda_delta", "lambda_e", "gamma"), names(pars))]
-  pars$lambda_delta <- as.array(pars$lambda_delta)
-  pars$lambda_e <- as.array(pars$lambda_e)
+  pars <- pars[intersect(c("tf", "tf_u", "rho_delta", "lambda_delta", "lambda_e", "gamma", "phi"),
+                         names(pars))]
+  pars$phi <- pars$phi %||% numeric(0)
+  for (par in c("lambda_delta", "lambda_e", "phi")) pars[[par]] <- as.array(pars[[par]])
   pars
 }
 
@@ -300,4 +303,17 @@ reference_hsgp_kernel <- function(m, boundary) {
     }
     total
   }
+}
+
+# The correlation matrix of AR(1) noise over rows in segments: phi^|i - j|
+# within a segment, 0 across, element by element.
+reference_ar1_cor <- function(phi, segments) {
+  n <- length(segments)
+  r <- matrix(0, n, n)
+  for (i in seq_len(n)) {
+    for (j in seq_len(n)) {
+      if (segments[i] == segments[j]) r[i, j] <- phi^abs(i - j)
+    }
+  }
+  r
 }

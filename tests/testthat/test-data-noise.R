@@ -71,3 +71,49 @@ test_that("noise draws and simulated bills grow with the period's days", {
   w <- sim$x$days / mean(sim$x$days)
   expect_equal(noise / sqrt(w), withr::with_seed(5, stats::rnorm(3, sd = 10)))
 })
+
+test_that("AR(1) segments break at gaps and steps back", {
+  t0 <- as.POSIXct("2013-03-09 22:00", tz = "UTC")
+  times <- t0 + 3600 * c(0, 1, 2, 4, 5, 5, 6, 3)
+  expect_equal(bayesbem:::noise_segments(times), c(1, 1, 1, 2, 2, 3, 3, 4))
+  expect_equal(bayesbem:::noise_segments(as.Date("2013-01-01") + c(0:3, 10:11)),
+               c(1, 1, 1, 1, 2, 2))
+  expect_equal(bayesbem:::noise_segments(t0), 1)
+})
+
+test_that("the Gram matrices of AR(1) noise weigh rows by the inverse correlation", {
+  withr::local_seed(41)
+  segments <- c(1, 1, 1, 1, 2, 3, 3)
+  z <- matrix(stats::rnorm(7 * 3), 7)
+  ar <- bayesbem:::ar1_grams(z, segments)
+  expect_equal(ar$segments, 3)
+  for (phi in c(-0.4, 0.3, 0.95)) {
+    expect_equal(bayesbem:::ar1_weighted(crossprod(z), ar, phi),
+                 t(z) %*% solve(reference_ar1_cor(phi, segments), z))
+    # log|R| = (rows - segments) log(1 - phi^2)
+    expect_equal(determinant(reference_ar1_cor(phi, segments))$modulus[[1]],
+                 (7 - 3) * log(1 - phi^2))
+  }
+})
+
+test_that("AR(1) noise series have unit variance, lag-1 correlation phi, and restart by segment", {
+  withr::local_seed(42)
+  segments <- rep(1:2, each = 3)
+  x <- t(replicate(20000, bayesbem:::ar1_series(0.8, segments)))
+  # a sample correlation's standard error is below 1 / sqrt(20000) = 0.007
+  expect_equal(apply(x, 2, stats::var), rep(1, 6), tolerance = 0.05)
+  expect_equal(stats::cor(x[, 1], x[, 2]), 0.8, tolerance = 0.03)
+  expect_equal(stats::cor(x[, 1], x[, 3]), 0.64, tolerance = 0.03)
+  expect_lt(abs(stats::cor(x[, 3], x[, 4])), 0.03)
+  draws <- list(list(lambda_e = 4, phi = 0.8), list(lambda_e = 4, phi = 0))
+  noise <- bayesbem:::noise_matrix(draws, rep(1, 6), segments)
+  expect_equal(dim(noise), c(2, 6))
+})
+
+test_that("the dense noise covariance carries the AR(1) correlation", {
+  g <- list(noise = c(1, 1, 2, 2), segments = c(1, 1, 1, 2))
+  expect_equal(bayesbem:::noise_cov(g, list(lambda_e = 4)), diag(c(1, 1, 2, 2) / 4))
+  v <- 0.1 + c(1, 1, 2, 2) / 4
+  expect_equal(bayesbem:::noise_cov(g, list(lambda_e = 4, phi = 0.6), extra = 0.1),
+               reference_ar1_cor(0.6, g$segments) * outer(sqrt(v), sqrt(v)))
+})

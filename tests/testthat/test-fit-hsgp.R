@@ -52,14 +52,66 @@ test_that("stage 2 with the additive discrepancy has the log density of its dens
   }
 })
 
+test_that("stage 2 with AR(1) noise has the log density of its dense model", {
+  skip_on_cran()
+  withr::local_seed(24)
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  # hourly rows with a gap after the fourth: two segments
+  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * c(0:3, 6:10)
+  d$names$period <- "time"
+  segments <- rep(1:2, c(4, 5))
+  priors <- koh_priors()
+  basis <- bayesbem:::basis_emulator(d, variance = 0.99)
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))), basis = basis)
+  sd <- bayesbem:::basis_stan_data(d, priors, emulator, bayesbem:::hsgp_design(m = 6, boundary = 3),
+                                   ar1 = TRUE)
+  expect_equal(c(sd$ar, sd$n_seg), c(1, 2))
+  model <- koh_model_for(sd, "koh_basis")
+  kernel <- reference_hsgp_kernel(6, 3)
+  for (phi in c(-0.3, 0.6, 0.97)) {
+    pars <- list(tf = as.array(stats::runif(d$q, 0.05, 0.95)),
+                 rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
+                 lambda_delta = stats::rgamma(1, 10, 0.3), lambda_e = stats::rgamma(1, 10, 0.03),
+                 gamma = numeric(0), phi = phi)
+    ref <- reference_basis(sd, basis, pars, kernel, reference_ar1_cor(phi, segments))
+    u <- bayesbem:::linear_box_inverse(pars$tf)
+    stan_pars <- stage2_pars(c(list(tf_u = as.array(u)), pars[names(pars) != "tf"]))
+    a <- sd$tf_edge
+    jacobian <- sum(log(stats::plogis(u / a) - stats::plogis((u - 1) / a)))
+    # phi's prior is flat on (-1, 1)
+    expect_equal(stan_log_density(model, stan_pars), ref$lp + jacobian,
+                 tolerance = 1e-8, label = paste("phi", phi))
+  }
+})
+
 test_that("the additive discrepancy needs the basis emulator and periods of one length", {
   d <- random_grid_data(n = 9, runs = 8, extra = 2)
   expect_identical(bayesbem:::choose_discrepancy_kernel("additive", "basis", d), "additive")
   expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", d), "product")
+  # "auto": additive above 400 rows, with the basis emulator and equal periods
+  big <- random_grid_data(n = 401, runs = 3)
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", big), "additive")
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "separable", big), "product")
+  bills <- random_grid_data(n = 401, runs = 3, days = TRUE)
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", bills), "product")
   expect_error(bayesbem:::choose_discrepancy_kernel("additive", "separable", d),
                class = "bayesbem_error_argument")
   periods <- random_grid_data(n = 9, runs = 8, extra = 2, days = TRUE)
   expect_error(bayesbem:::choose_discrepancy_kernel("additive", "basis", periods),
                class = "bayesbem_error_argument")
   expect_snapshot(calibrate(d, emulator = "separable", discrepancy_kernel = "additive"), error = TRUE)
+})
+
+test_that("AR(1) noise needs the additive discrepancy and the rows' times", {
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  choose <- bayesbem:::choose_noise_correlation
+  expect_identical(choose("auto", "additive", d), "none")
+  expect_identical(choose("none", "additive", d), "none")
+  expect_error(choose("ar1", "product", d), class = "bayesbem_error_argument")
+  expect_error(choose("ar1", "additive", d), class = "bayesbem_error_argument")
+  expect_snapshot(choose("ar1", "additive", d), error = TRUE)
+  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * 0:8
+  d$names$period <- "time"
+  expect_identical(choose("ar1", "additive", d), "ar1")
 })

@@ -62,7 +62,8 @@ test_that("the K-output stage-2 log density is the sum of the outputs' (basis)",
   for (i in 1:3) {
     pars <- list(tf = as.array(stats::runif(3)), rho_delta = as.array(stats::runif(4, 0.3, 0.99)),
                  lambda_delta = as.array(stats::rgamma(2, 10, 0.3)),
-                 lambda_e = as.array(stats::rgamma(2, 10, 0.03)), gamma = numeric(0))
+                 lambda_e = as.array(stats::rgamma(2, 10, 0.03)), gamma = numeric(0),
+                 phi = numeric(0))
     refs <- lapply(1:2, function(k) {
       one_sd <- bayesbem:::basis_stan_data(d$outputs[[k]], priors, emulators[[k]])
       reference_basis(one_sd, emulators[[k]]$basis,

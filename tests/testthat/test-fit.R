@@ -252,6 +252,9 @@ test_that("default sampling depends on the kind of fit and the data size", {
                list(iter = 3000L, warmup = 1000L,
                     control = list(adapt_delta = 0.95, metric = "dense_e")))
   expect_equal(bayesbem:::default_sampling(TRUE, 36, "basis"), careful)
+  expect_equal(bayesbem:::default_sampling(TRUE, 8760, "basis", "additive"),
+               list(iter = 1000L, warmup = 500L,
+                    control = list(adapt_delta = 0.95, metric = "dense_e")))
 })
 
 test_that("a caller's iter has half of it as warm-up, the defaults their own", {

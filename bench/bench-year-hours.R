@@ -1,0 +1,89 @@
+# Benchmark (issue 55, time): a year of hourly data calibrated to
+# convergence with the public API. The embedded hourly model on the 2013
+# weather (inputs temp, rh, solar, weekday, hour), three parameters
+# (equipment power density, infiltration, cooling setpoint) at the middle
+# of their ranges, the simulator's use there plus AR(1) noise (phi 0.7, sd
+# 0.5 kWh), the first `hours` hours with their times; `runs` LHS runs;
+# calibrate(discrepancy_kernel = "additive") with its default sampler and
+# `chains` chains on every core, with white or AR(1) noise. Reported per
+# fit: wall time (data, stage 1 and stage 2), max R-hat, divergent
+# transitions, min bulk ESS, the truth inside the 90 % intervals, and the
+# posterior mean of phi. With "daily": the embedded daily model on 2012,
+# 2013 and 2012 again (a third year of the same weather, `year` an input),
+# 1,096 days.
+# Usage, from the package root, with bayesbem installed:
+#   Rscript bench/bench-year-hours.R [hours] [runs, comma-separated] [chains] [none|ar1]
+#   Rscript bench/bench-year-hours.R daily [runs] [chains] [none|ar1]
+suppressPackageStartupMessages(library(bayesbem))
+options(bayesbem.progress = FALSE)
+args <- commandArgs(trailingOnly = TRUE)
+daily <- length(args) > 0L && args[1] == "daily"
+arg <- function(i, default) if (length(args) >= i) args[i] else default
+hours <- if (daily) NA else as.integer(arg(1, "8760"))
+runs_list <- as.integer(strsplit(arg(2, "30"), ",")[[1]])
+chains <- as.integer(arg(3, "4"))
+correlation <- arg(4, "ar1")
+
+weather <- function(year) system.file("extdata", sprintf("%d_AMY.epw.gz", year), package = "bayesbem")
+params <- c("equipment_power_density", "infiltration_per_exterior_area", "cooling_setpoint")
+
+# The problem: the simulator's rows and times, its use at the truth with
+# AR(1) noise, and a function giving the runs' table for a design.
+problem <- if (daily) {
+  years <- c(2012, 2013, 2012)
+  sims <- lapply(years, function(y) bem_simulator(weather(y)))
+  x <- do.call(rbind, Map(function(s, k) cbind(s$x, year = k), sims, seq_along(sims)))
+  times <- as.Date("2012-01-01") + seq_len(nrow(x)) - 1
+  simulate_rows <- function(design) {
+    do.call(rbind, Map(function(s, k) {
+      out <- simulate_design(s, design)
+      out$year <- k
+      out
+    }, sims, seq_along(sims)))
+  }
+  list(x = x, times = times, parameters = sims[[1]]$parameters, simulate = simulate_rows)
+} else {
+  sim <- bem_simulator(weather(2013), by = "hour")
+  keep <- seq_len(hours)
+  list(x = sim$x[keep, ], times = sim$periods$start[keep], parameters = sim$parameters,
+       simulate = function(design) {
+         out <- simulate_design(sim, design)
+         out[rep((seq_len(nrow(design)) - 1L) * nrow(sim$x), each = hours) + keep, ]
+       })
+}
+ranges <- problem$parameters[problem$parameters$parameter %in% params, ]
+truth <- stats::setNames(as.list((ranges$min + ranges$max) / 2), ranges$parameter)
+set.seed(55)
+use <- problem$simulate(as.data.frame(truth))$eta
+noise <- 0.5 * as.numeric(stats::filter(stats::rnorm(length(use), sd = sqrt(1 - 0.7^2)), 0.7,
+                                         method = "recursive", init = stats::rnorm(1)))
+field <- data.frame(y = use + noise, problem$x, time = problem$times, row.names = NULL)
+
+rows <- lapply(runs_list, function(mt) {
+  runs <- problem$simulate(design_lhs(ranges, n = mt, seed = 2))
+  t0 <- Sys.time()
+  d <- suppressMessages(koh_data(field, runs))
+  t1 <- Sys.time()
+  fit <- calibrate(d, discrepancy_kernel = "additive", noise_correlation = correlation,
+                   chains = chains, seed = 1)
+  t2 <- Sys.time()
+  conv <- check_convergence(fit, warn = FALSE)
+  draws <- posterior::as_draws_df(fit)
+  covered <- vapply(names(truth), function(v) {
+    q <- stats::quantile(draws[[v]], c(0.05, 0.95))
+    truth[[v]] >= q[1] && truth[[v]] <= q[2]
+  }, logical(1))
+  divergent <- sum(vapply(bayesbem:::sampler_params(fit), function(s) sum(s[, "divergent__"]),
+                          numeric(1)))
+  data.frame(rows = d$n, runs = mt, noise = correlation, chains = chains,
+             data_s = as.numeric(difftime(t1, t0, units = "secs")),
+             fit_s = as.numeric(difftime(t2, t1, units = "secs")),
+             max_rhat = max(conv$rhat, na.rm = TRUE), divergent = divergent,
+             min_bulk_ess = min(conv$ess_bulk, na.rm = TRUE),
+             covered = sprintf("%d/%d", sum(covered), length(covered)),
+             phi = if (correlation == "ar1") mean(draws$phi) else NA)
+})
+out <- do.call(rbind, rows)
+print(out, digits = 3, row.names = FALSE)
+cat(sprintf("machine: %s, %d cores; R %s; rstan %s; %s\n", Sys.info()[["nodename"]],
+            parallel::detectCores(), getRversion(), packageVersion("rstan"), Sys.Date()))
