@@ -260,6 +260,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   # `emulator` names the choice; stage 1 is the fitted emulator (of each output)
   stage1 <- if (modular) fit_stage1(data, priors, seed, sampler$on_failure, emulator_type)
   if (modular) sampler$args$init <- stage2_inits(sampler$args$init, emulator_type)
+  sampler$start_at_mode <- discrepancy_kernel == "additive"
   hsgp <- if (discrepancy_kernel == "additive") hsgp_design()
   program <- stan_program(data, priors, stage1, emulator_type, modular, structure, predict_at,
                           hsgp, noise_correlation == "ar1")
@@ -335,12 +336,16 @@ fit_stage1 <- function(data, priors, seed, on_failure, emulator) {
 # The iterations and sampler control of a fit whose caller gives none: for
 # each size and emulator, what converged most often in the reliability
 # benchmark (bench/RESULTS.md, "Reliability"; why in inst/notes/design.md,
-# "Sampling" and "Stage-2 geometry"); for the additive discrepancy, 500 +
-# 500 (bench/RESULTS.md, "A year of hours").
+# "Sampling" and "Stage-2 geometry"). The additive discrepancy's chains
+# start at a mode (mode_start()), so 500 + 500 iterations, a first metric
+# after 50 (not 100) and trees of at most 2^8 steps, which only the
+# unit metric's first iterations reach (bench/RESULTS.md, "A year of
+# hours").
 default_sampling <- function(modular, n, emulator = "separable", kernel = "product") {
   if (kernel == "additive") {
     return(list(iter = 1000L, warmup = 500L,
-                control = list(adapt_delta = 0.95, metric = "dense_e")))
+                control = list(adapt_delta = 0.95, metric = "dense_e", max_treedepth = 8L,
+                               adapt_init_buffer = 25L)))
   }
   if (modular && n > 36L && emulator == "basis") {
     return(list(iter = 3000L, warmup = 1000L,
@@ -630,6 +635,7 @@ refit <- function(fit, ...) {
                structure = settings$structure %||% "auto", modular = isTRUE(settings$modular),
                emulator = if (isTRUE(settings$modular)) settings$emulator %||% "separable" else "auto",
                discrepancy_kernel = settings$discrepancy_kernel %||% "product",
+               noise_correlation = settings$noise_correlation %||% "none",
                minor_modes = settings$minor_modes %||% "keep",
                covariates = fit_covariates(fit))
   # replaced whole, not merged: a new bayesbem_data or priors is a list too

@@ -57,24 +57,26 @@ additive_posterior <- function(ag, par) {
 }
 
 # One joint draw of the emulator at the field rows `at` (indices; none
-# with integer(0)) and of the discrepancy's Gaussian-process part at the
-# scaled inputs `x_new`, for one draw of the parameters.
-additive_draw <- function(ag, par, at, x_new) {
+# with integer(0)) and of the discrepancy's Gaussian-process part at new
+# inputs, whose basis functions are `phi_new` (hsgp_phi()), for one draw of
+# the parameters.
+additive_draw <- function(ag, par, at, phi_new) {
   post <- additive_posterior(ag, par)
   z <- post$z + backsolve(post$r, stats::rnorm(length(post$z)))
   a <- post$a0 + post$s * z
   w <- seq_len(ag$pc)
-  delta <- drop(hsgp_phi(x_new, ag$design) %*% a[-w])
+  delta <- drop(phi_new %*% a[-w])
   if (length(at) == 0L) {
     return(list(eta = numeric(0), delta = delta))
   }
+  # t at every field row, then the rows asked for (a row asked twice, one t)
   s2r <- ag$basis$s2r
-  u_at <- ag$u[at, , drop = FALSE]
-  e <- ag$r0[at] - drop(ag$h[at, , drop = FALSE] %*% par$gamma) - drop(u_at %*% a)
-  spread <- if (is.null(ag$segments)) stats::rnorm(length(at)) else
-    ar1_series(par$phi, ag$segments)[at]
+  e <- ag$r0 - drop(ag$h %*% par$gamma) - drop(ag$u %*% a)
+  spread <- if (is.null(ag$segments)) stats::rnorm(length(e)) else
+    ar1_series(par$phi, ag$segments)
   truncated <- s2r / post$d * e + sqrt(s2r * (1 - s2r / post$d)) * spread
-  list(eta = ag$basis$mu[at] + drop(u_at[, w, drop = FALSE] %*% a[w]) + truncated, delta = delta)
+  eta <- ag$basis$mu + drop(ag$basis$B %*% a[w]) + truncated
+  list(eta = eta[at], delta = delta)
 }
 
 # Draws (rows) by new rows (columns) of eta and delta, scaled, for the
@@ -87,7 +89,8 @@ additive_joint <- function(fit, newdata, pars, types = c("y", "eta"),
   with_eta <- any(c("y", "eta") %in% types)
   at <- if (with_eta) field_row_of(fit$data, newdata, call = call) else integer(0)
   ag <- additive_geometry(fit)
-  draws <- lapply(pars, additive_draw, ag = ag, at = at, x_new = x_new)
+  phi_new <- hsgp_phi(x_new, ag$design)
+  draws <- lapply(pars, additive_draw, ag = ag, at = at, phi_new = phi_new)
   delta <- do.call(rbind, lapply(draws, `[[`, "delta"))
   eta <- if (with_eta) do.call(rbind, lapply(draws, `[[`, "eta")) else NA * delta
   list(eta = eta, delta = delta)

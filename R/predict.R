@@ -21,6 +21,15 @@
 #' (plus noise). Sampling uses R's random number generator: call
 #' [set.seed()] first for reproducible draws.
 #'
+#' A fit with the additive discrepancy (`calibrate(discrepancy_kernel =)`)
+#' conditions as its likelihood does, at a cost linear in the rows: the
+#' basis emulator's weights and the discrepancy's basis coefficients given
+#' the data, per draw. Its emulator is the runs at the field rows, so
+#' `"y"` and `"eta"` are for field rows' inputs only (elsewhere, run the
+#' simulator with [predict_scenario()]); `"delta"` is for any inputs. With
+#' AR(1) noise, `noise = TRUE` draws it over `newdata`'s periods (its
+#' period column, or the field rows').
+#'
 #' With `method = "sampled"`, the predictions sampled inside Stan are
 #' returned (the paper's Appendix D): they exist only for the inputs given to
 #' [calibrate()] as `predict_at`, and include observation noise.

@@ -6,9 +6,10 @@
 # 0.5 kWh), the first `hours` hours with their times; `runs` LHS runs;
 # calibrate(discrepancy_kernel = "additive") with its default sampler and
 # `chains` chains on every core, with white or AR(1) noise. Reported per
-# fit: wall time (data, stage 1 and stage 2), max R-hat, divergent
-# transitions, min bulk ESS, the truth inside the 90 % intervals, and the
-# posterior mean of phi. With "daily": the embedded daily model on 2012,
+# fit: wall time (the data; the fit, both stages), max R-hat, divergent
+# transitions, mean leapfrog steps per draw, draws at the maximum tree
+# depth, min bulk ESS, the truth
+# inside the 90 % intervals, and the posterior mean of phi. With "daily": the embedded daily model on 2012,
 # 2013 and 2012 again (a third year of the same weather, `year` an input),
 # 1,096 days.
 # Usage, from the package root, with bayesbem installed:
@@ -73,12 +74,13 @@ rows <- lapply(runs_list, function(mt) {
     q <- stats::quantile(draws[[v]], c(0.05, 0.95))
     truth[[v]] >= q[1] && truth[[v]] <= q[2]
   }, logical(1))
-  divergent <- sum(vapply(bayesbem:::sampler_params(fit), function(s) sum(s[, "divergent__"]),
-                          numeric(1)))
+  sampler <- do.call(rbind, bayesbem:::sampler_params(fit))
   data.frame(rows = d$n, runs = mt, noise = correlation, chains = chains,
              data_s = as.numeric(difftime(t1, t0, units = "secs")),
              fit_s = as.numeric(difftime(t2, t1, units = "secs")),
-             max_rhat = max(conv$rhat, na.rm = TRUE), divergent = divergent,
+             max_rhat = max(conv$rhat, na.rm = TRUE), divergent = sum(sampler[, "divergent__"]),
+             leapfrog = mean(sampler[, "n_leapfrog__"]),
+             treedepth_hits = bayesbem:::fit_sampler_diagnostics(fit)$treedepth_hits,
              min_bulk_ess = min(conv$ess_bulk, na.rm = TRUE),
              covered = sprintf("%d/%d", sum(covered), length(covered)),
              phi = if (correlation == "ar1") mean(draws$phi) else NA)

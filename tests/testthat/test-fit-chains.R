@@ -269,3 +269,26 @@ test_that("a list of starting values gives each chain its own", {
   expect_equal(lapply(fit$inits, function(i) as.vector(i$tf)),
                list(rep(0.2, 3), rep(0.8, 3)))
 })
+
+test_that("a chain started at the mode starts where the gradient vanishes, from its own start", {
+  skip_on_cran()
+  withr::local_seed(26)
+  d <- random_grid_data(n = 12, runs = 8, extra = 2)
+  priors <- koh_priors()
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))),
+                   basis = bayesbem:::basis_emulator(d, variance = 0.99))
+  sd <- bayesbem:::basis_stan_data(d, priors, emulator, bayesbem:::hsgp_design(m = 6, boundary = 3))
+  model <- bayesbem:::stanmodels$koh_basis
+  starts <- lapply(1:2, function(chain) bayesbem:::mode_start(model, sd, 7, chain))
+  instance <- koh_model_for(sd, "koh_basis")
+  for (start in starts) {
+    expect_length(start, 1)
+    u <- rstan::unconstrain_pars(instance, start[[1]])
+    # BFGS's mode: the gradient of the log density (Jacobian included) near 0
+    expect_lt(max(abs(rstan::grad_log_prob(instance, u))), 1e-3)
+    expect_true(is.array(start[[1]]$tf_u))
+  }
+  # the same seed and chain, the same start
+  expect_equal(bayesbem:::mode_start(model, sd, 7, 1), starts[[1]])
+})

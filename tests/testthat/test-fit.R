@@ -254,7 +254,8 @@ test_that("default sampling depends on the kind of fit and the data size", {
   expect_equal(bayesbem:::default_sampling(TRUE, 36, "basis"), careful)
   expect_equal(bayesbem:::default_sampling(TRUE, 8760, "basis", "additive"),
                list(iter = 1000L, warmup = 500L,
-                    control = list(adapt_delta = 0.95, metric = "dense_e")))
+                    control = list(adapt_delta = 0.95, metric = "dense_e", max_treedepth = 8L,
+                                   adapt_init_buffer = 25L)))
 })
 
 test_that("a caller's iter has half of it as warm-up, the defaults their own", {
@@ -321,7 +322,9 @@ test_that("a year of hourly rows is prepared in bounded memory and refused up fr
   expect_gt(size$hours, 500)
   # the hours follow the iterations asked for
   expect_equal(bayesbem:::fit_size(d, "grid", TRUE, 500)$hours, size$hours / 4)
-  expect_error(calibrate(d, chains = 2, seed = 1), class = "bayesbem_error_too_large")
+  # the product kernel is refused; "auto" takes the additive one at this size
+  expect_error(calibrate(d, chains = 2, seed = 1, discrepancy_kernel = "product"),
+               class = "bayesbem_error_too_large")
   # the additive discrepancy's factor has its basis functions' columns, not the rows
   additive <- bayesbem:::fit_size(d, "grid", TRUE, 3000, "additive")
   expect_equal(additive$rows, 40 * 3 + 10)

@@ -68,8 +68,8 @@ test_that("additive draws follow the conditional, at field rows and anywhere for
   ma <- post$a0 + post$s * post$z
   x_new <- matrix(stats::runif(2 * d$p), 2)
   at <- c(3L, 7L)
-  draws <- replicate(4000, unlist(bayesbem:::additive_draw(ag, par, at, x_new)))
   phi <- bayesbem:::hsgp_phi(x_new, fit$settings$hsgp)
+  draws <- replicate(4000, unlist(bayesbem:::additive_draw(ag, par, at, phi)))
   pc <- ag$pc
   expected <- c(ag$basis$mu[at] + drop(ag$u[at, 1:pc] %*% ma[1:pc]) +
                   ag$basis$s2r / post$d * (ag$r0[at] - drop(ag$u[at, ] %*% ma)),

@@ -42,8 +42,9 @@ test_that("the savings vignette renders its held-out check, savings and avoided 
                                   "held-out"))
 })
 
-test_that("the meter-data vignette renders bills on their own dates and hours of a meter", {
+test_that("the meter-data vignette renders bills on their own dates, hours of a meter and a year of them", {
   skip_on_cran()
   expect_rendered("meter-data", 0, c("beta_delta[days]", "1 hour earlier",
-                                     "48 field rows", "starts before the period above it"))
+                                     "48 field rows", "starts before the period above it",
+                                     "8760 field rows", "additive discrepancy, AR(1) noise"))
 })
