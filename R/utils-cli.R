@@ -117,10 +117,17 @@ and_list <- function(x) {
 }
 
 # Prints a data frame without row names, doubles rounded to `digits`
-# significant digits.
-print_rounded <- function(df, digits) {
+# significant digits; one of more than `max_rows` rows (a year of hours) as
+# its first 20 rows and its last (a total, where there is one), saying how
+# many are left out.
+print_rounded <- function(df, digits, max_rows = 50L) {
   num <- vapply(df, is.double, logical(1))
   df[num] <- lapply(df[num], signif, digits = digits)
-  print(df, row.names = FALSE)
+  n <- nrow(df)
+  if (n <= max_rows) {
+    return(print(df, row.names = FALSE))
+  }
+  print(df[c(seq_len(20L), n), , drop = FALSE], row.names = FALSE)
+  cat_lines("(rows 21 to {n - 1} of {n} not shown)")
 }
 

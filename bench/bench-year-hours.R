@@ -4,14 +4,14 @@
 # (equipment power density, infiltration, cooling setpoint) at the middle
 # of their ranges, the simulator's use there plus AR(1) noise (phi 0.7, sd
 # 0.5 kWh), the first `hours` hours with their times; `runs` LHS runs;
-# calibrate(discrepancy_kernel = "additive") with its default sampler and
-# `chains` chains on every core, with white or AR(1) noise. Reported per
-# fit: wall time (the data; the fit, both stages), max R-hat, divergent
+# calibrate()'s defaults (the additive discrepancy at this size) with
+# `chains` chains on every core, white or AR(1) noise. Reported per fit:
+# wall time (the data; the fit, both stages), max R-hat, divergent
 # transitions, mean leapfrog steps per draw, draws at the maximum tree
-# depth, min bulk ESS, the truth
-# inside the 90 % intervals, and the posterior mean of phi. With "daily": the embedded daily model on 2012,
-# 2013 and 2012 again (a third year of the same weather, `year` an input),
-# 1,096 days.
+# depth, min bulk ESS, the truth inside the 90 % intervals, and the
+# posterior mean of phi. With "daily": the embedded model by day on 2012,
+# 2013 and 2012 again (a third year of the same weather, `year` an
+# input), 1,097 days.
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-year-hours.R [hours] [runs, comma-separated] [chains] [none|ar1]
 #   Rscript bench/bench-year-hours.R daily [runs] [chains] [none|ar1]
@@ -32,7 +32,7 @@ params <- c("equipment_power_density", "infiltration_per_exterior_area", "coolin
 # AR(1) noise, and a function giving the runs' table for a design.
 problem <- if (daily) {
   years <- c(2012, 2013, 2012)
-  sims <- lapply(years, function(y) bem_simulator(weather(y)))
+  sims <- lapply(years, function(y) bem_simulator(weather(y), by = "day"))
   x <- do.call(rbind, Map(function(s, k) cbind(s$x, year = k), sims, seq_along(sims)))
   times <- as.Date("2012-01-01") + seq_len(nrow(x)) - 1
   simulate_rows <- function(design) {
@@ -65,8 +65,7 @@ rows <- lapply(runs_list, function(mt) {
   t0 <- Sys.time()
   d <- suppressMessages(koh_data(field, runs))
   t1 <- Sys.time()
-  fit <- calibrate(d, discrepancy_kernel = "additive", noise_correlation = correlation,
-                   chains = chains, seed = 1)
+  fit <- calibrate(d, noise_correlation = correlation, chains = chains, seed = 1)
   t2 <- Sys.time()
   conv <- check_convergence(fit, warn = FALSE)
   draws <- posterior::as_draws_df(fit)
