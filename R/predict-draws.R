@@ -27,6 +27,28 @@ predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE, types = c(
        tf = do.call(rbind, lapply(pars, `[[`, "tf")))
 }
 
+# The AR(1) segments of the rows of `x` for a fit with AR(1) noise (NULL
+# for white noise): from `times`, else x's period column, else the field
+# rows' when x is the field rows in order.
+noise_rows <- function(fit, x, times = NULL, call = rlang::caller_env()) {
+  if (!identical(fit$settings$noise_correlation, "ar1")) {
+    return(NULL)
+  }
+  data <- fit$data
+  period <- data$names$period
+  times <- times %||% if (!is.null(period)) x[[period]]
+  if (!is.null(times)) {
+    return(noise_segments(times))
+  }
+  same <- nrow(x) == data$n && all(value_keys(x[data$names$x]) == value_keys(data$field[data$names$x]))
+  if (!same) {
+    abort_bayesbem(c("Noise of a fit with AR(1) noise needs the times of the rows.",
+                     i = "Give {.arg newdata} the column {.field {period %||% \"time\"}}, or leave out the noise."),
+                   "columns", call = call)
+  }
+  field_segments(data, call = call)
+}
+
 # Draws (rows) by new rows (columns) of eta and delta, scaled, from the
 # Gaussian processes' joint conditional (koh_conditional()) per draw.
 gp_joint <- function(fit, newdata, pars) {

@@ -92,10 +92,10 @@ test_that("the null keeps the model's structure: residuals given the runs, covar
   m <- drop(sigma[f, -f] %*% solve(sigma[-f, -f], rg$eta))
   s <- sigma[f, f] - sigma[f, -f] %*% solve(sigma[-f, -f], sigma[-f, f])
   expect_equal(out$residual, rg$y - m, tolerance = 1e-6)
-  expect_equal(out$emulator + diag(out$noise, 12), s - bayesbem:::delta_cov(gd$ff, par),
+  expect_equal(out$emulator + out$noise, s - bayesbem:::delta_cov(gd$ff, par),
                tolerance = 1e-6)
-  # periods of one length: every row has the noise 1 / lambda_e
-  expect_equal(out$noise, rep(1 / par$lambda_e, 12), ignore_attr = TRUE)
+  # periods of one length, white noise: every row has the noise 1 / lambda_e
+  expect_equal(out$noise, diag(1 / par$lambda_e, 12), ignore_attr = TRUE)
 })
 
 test_that("a share's interval is the jackknife over blocks of periods, not the draws' spread", {
