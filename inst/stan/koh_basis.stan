@@ -147,24 +147,27 @@ model {
       int u = pc_k + m * p;
       int nz = u + 1 + n_h;
       int z = c + (k - 1) * (m * p + 1 + n_h);
-      matrix[nz, nz] g = block(gram, z, z, nz, nz);
-      real log_det_r = 0;
       vector[nz] a = append_row(append_row(-segment(wv, c, pc_k), rep_vector(0, m * p)),
                                 append_row(rep_vector(1, 1), -gamma));
-      vector[nz] ga;
+      vector[u] c_k = append_row(segment(wv, pc + c, pc_k),
+                                 hsgp_spectral(omega, segment(beta_delta, (k - 1) * p + 1, p),
+                                               lambda_delta[k]));
+      real d_k = s2r[k] + noise_weight[s] / lambda_e[k];
       if (ar) {
+        // the data blocks times a first, so that only U'R^-1 U is formed with phi
         real f2 = square(phi[k]);
-        g = ((1 + f2) * g - f2 * block(gram_end, z, z, nz, nz)
-             - phi[k] * block(gram_lag, z, z, nz, nz)) / (1 - f2);
-        log_det_r = (len - n_seg[k]) * log1m(f2);
+        vector[nz] ga = ((1 + f2) * (block(gram, z, z, nz, nz) * a)
+                         - f2 * (block(gram_end, z, z, nz, nz) * a)
+                         - phi[k] * (block(gram_lag, z, z, nz, nz) * a)) / (1 - f2);
+        matrix[u, u] uu = ((1 + f2) * block(gram, z, z, u, u) - f2 * block(gram_end, z, z, u, u)
+                           - phi[k] * block(gram_lag, z, z, u, u)) / (1 - f2);
+        target += normal_lowrank(dot_product(a, ga), head(ga, u), uu, c_k, d_k, len)
+                  - 0.5 * (len - n_seg[k]) * log1m(f2);
+      } else {
+        vector[nz] ga = block(gram, z, z, nz, nz) * a;
+        target += normal_lowrank(dot_product(a, ga), head(ga, u), block(gram, z, z, u, u), c_k, d_k,
+                                 len);
       }
-      ga = g * a;
-      target += normal_lowrank(dot_product(a, ga), head(ga, u), block(g, 1, 1, u, u),
-                               append_row(segment(wv, pc + c, pc_k),
-                                          hsgp_spectral(omega, segment(beta_delta, (k - 1) * p + 1, p),
-                                                        lambda_delta[k])),
-                               s2r[k] + noise_weight[s] / lambda_e[k], len)
-                - 0.5 * log_det_r;
     } else {
       target += normal_basis_lpdf(segment(y, s, len) - segment(mu_f, s, len)
                                 - block(B, s, c, len, pc_k) * segment(wv, c, pc_k)
