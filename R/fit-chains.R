@@ -71,9 +71,7 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
 # first warm-up iterations, on the unit metric, run at the maximum tree
 # depth until they reach it (bench/RESULTS.md, "A year of hours").
 mode_start <- function(model, stan_data, seed, chain) {
-  utils::capture.output(suppressMessages(
-    instance <- rstan::sampling(model, data = stan_data, chains = 0L)
-  ))
+  instance <- stan_instance(model, stan_data)
   u <- with_seed(seed %% 1e8 + chain, stats::runif(rstan::get_num_upars(instance), -2, 2))
   climb <- climb_log_prob(instance, u)
   if (!is.finite(climb$lp)) {

@@ -19,11 +19,7 @@
 # (the density fails at every start), `on_failure(messages)` is called, as
 # for a chain that cannot start.
 fit_emulator <- function(data, priors, seed, on_failure, starts = 16L) {
-  stan_data <- emulator_stan_data(data, priors)
-  # rstan says that 0 chains sample nothing
-  utils::capture.output(suppressMessages(
-    instance <- rstan::sampling(stanmodels$koh_emulator, data = stan_data, chains = 0L)
-  ))
+  instance <- stan_instance(stanmodels$koh_emulator, emulator_stan_data(data, priors))
   mode <- emulator_mode(instance, starts, seed)
   if (!is.finite(mode$lp)) {
     on_failure(sprintf("Stage 1: the emulator's log density failed at all %d starting points.",
@@ -32,6 +28,15 @@ fit_emulator <- function(data, priors, seed, on_failure, starts = 16L) {
   values <- rstan::constrain_pars(instance, mode$u)
   list(beta_eta = as.numeric(values$beta_eta), lambda_eta = values$lambda_eta,
        b = as.numeric(values$b %||% numeric()), lp = mode$lp, searches = mode$searches)
+}
+
+# An instance of `model` on `stan_data` whose log density and gradient
+# rstan evaluates (rstan says that 0 chains sample nothing).
+stan_instance <- function(model, stan_data) {
+  utils::capture.output(suppressMessages(
+    instance <- rstan::sampling(model, data = stan_data, chains = 0L)
+  ))
+  instance
 }
 
 # The highest mode of a model instance's log density on Stan's unconstrained
