@@ -263,8 +263,8 @@ hsgp_stan_data <- function(sd, design, segments = NULL) {
   }
   z <- lapply(seq_len(sd$K), function(k) {
     rows <- sd$output == k
-    cbind(sd$B[rows, sd$pc_output == k, drop = FALSE], hsgp_phi(sd$xf[rows, , drop = FALSE], design),
-          sd$y[rows] - sd$mu_f[rows], sd$h[rows, , drop = FALSE])
+    hsgp_columns(sd$B[rows, sd$pc_output == k, drop = FALSE], sd$xf[rows, , drop = FALSE],
+                 sd$y[rows] - sd$mu_f[rows], sd$h[rows, , drop = FALSE], design)
   })
   gram <- block_diagonal(lapply(z, crossprod))
   out <- c(sd, list(hsgp = 1L, m = design$m, omega = as.array(design$omega), n_z = nrow(gram),

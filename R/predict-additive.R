@@ -28,10 +28,10 @@ additive_geometry <- function(fit) {
   data <- fit$data
   basis <- fit$emulator$basis
   design <- fit$settings$hsgp
-  u <- cbind(basis$B, hsgp_phi(field_grid_inputs(data), design))
   r0 <- data$y - basis$mu
   h <- discrepancy_design(data)
-  z <- cbind(u, r0, h)
+  z <- hsgp_columns(basis$B, field_grid_inputs(data), r0, h, design)
+  u <- z[, seq_len(ncol(z) - 1L - ncol(h)), drop = FALSE]
   segments <- if (identical(fit$settings$noise_correlation, "ar1")) field_segments(data)
   list(basis = basis, design = design, pc = ncol(basis$B), u = u, gram = crossprod(z),
        ar = if (!is.null(segments)) ar1_grams(z, segments), segments = segments,
