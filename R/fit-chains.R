@@ -11,11 +11,18 @@
 # moves per chain. `args` are further rstan::sampling() arguments. A chain
 # that cannot start calls `on_failure(messages)` with Stan's last lines.
 # With `start_at_mode` (and no `init` given), each chain starts at the mode
-# reached from its own random start (mode_start()).
+# reached from its own random start (mode_start()), and koh_basis.stan
+# samples through the Laplace approximation at a mode (laplace_map()).
 sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, cores, control,
                           args, progress, on_failure, minor_modes = "keep", keep_moved = FALSE,
                           start_at_mode = FALSE, call = rlang::caller_env()) {
   args$refresh <- args$refresh %||% max(1L, iter %/% 50L)
+  if (!is.null(stan_data$u_scale)) {
+    if (start_at_mode) stan_data <- laplace_map(model, stan_data, seed)
+    if (is.list(args$init)) {
+      args$init <- with_seed(seed, lapply(args$init, function(v) list(z = basis_z(v, stan_data))))
+    }
+  }
   # Runs the chains `ids`, each from its element of `init` when that is a list
   # (one element per chain), behind one progress bar; their stanfits.
   run_chains <- function(ids, label, init = args$init) {
@@ -61,6 +68,46 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
   structure(rstan::sflist2stanfit(fits[setdiff(seq_along(fits), modes$drop)]),
             dropped = modes$drop, restarted = modes$restart, restarted_from = modes$from,
             kept_moved = modes$kept, minor_tf = modes$minor_tf)
+}
+
+# The affine map koh_basis.stan samples through, u = u_offset + u_scale z,
+# set in its data `stan_data` (which hold the identity): the Laplace
+# approximation at the mode BFGS reaches from a random start, u_scale
+# u_scale' the inverse of the log density's curvature there, so that the
+# sampler's first, unit metric on z is about the posterior's covariance.
+# Why: at 8,760 hours the noise precision and phi are known to about
+# 1 / sqrt(n) and the discrepancy's length scales to about 1 (a condition
+# number of 30,000 on u), rstan takes no initial metric, and warm-up on the
+# unit metric ran at the maximum tree depth (bench/RESULTS.md, "A year of
+# hours"). Directions along which the density does not curve down keep unit
+# scale, none is wider than 10; the identity stays where no mode is found.
+laplace_map <- function(model, stan_data, seed) {
+  instance <- stan_instance(model, stan_data)
+  n <- stan_data$n_u
+  climb <- climb_log_prob(instance, with_seed(seed %% 1e8, stats::runif(n, -2, 2)))
+  hessian <- if (is.finite(climb$lp)) log_prob_hessian(instance, climb$u)
+  if (is.null(hessian) || !all(is.finite(hessian))) {
+    return(stan_data)
+  }
+  curvature <- eigen(-hessian, symmetric = TRUE)
+  precision <- ifelse(curvature$values > 0, pmax(curvature$values, 0.01), 1)
+  stan_data$u_offset <- as.array(climb$u)
+  stan_data$u_scale <- curvature$vectors %*% diag(1 / sqrt(precision), n)
+  stan_data
+}
+
+# The Hessian of a model instance's log density (Jacobian included) at `u`,
+# by central differences of its gradient, symmetrised; NA where a gradient
+# fails.
+log_prob_hessian <- function(instance, u, h = 1e-4) {
+  gradient <- function(x) {
+    tryCatch(as.numeric(rstan::grad_log_prob(instance, x)), error = function(e) rep(NA, length(x)))
+  }
+  hessian <- vapply(seq_along(u), function(k) {
+    e <- replace(numeric(length(u)), k, h)
+    (gradient(u + e) - gradient(u - e)) / (2 * h)
+  }, numeric(length(u)))
+  (hessian + t(hessian)) / 2
 }
 
 # A chain's start (rstan::sampling()'s `init`) at the mode that BFGS

@@ -113,8 +113,12 @@ restart_inits <- function(fit, n) {
 # (0, 1) parameters, log for the precisions, none for the rest. Where the
 # draws' variables (`names`) hold tf_u, koh_basis.stan's, tf is one of its
 # transformed parameters; tf_u is taken as it is (Stan's unconstrained value
-# is tf_u / linear_box$multiplier, the same factor for every chain).
+# is tf_u / linear_box$multiplier, the same factor for every chain). Where
+# they hold z, koh_basis.stan samples z alone (an affine map of the rest).
 parameter_block <- function(names = character()) {
+  if ("z" %in% names) {
+    return(list(logit = character(), log = character(), identity = "z"))
+  }
   list(logit = c(if (!"tf_u" %in% names) "tf", "rho_eta", "rho_delta"),
        log = c("lambda_eta", "lambda_delta", "lambda_e"),
        identity = c("b", "gamma", "y_pred", "tf_u"))

@@ -245,7 +245,10 @@ basis_stan_data <- function(data, priors, emulator, hsgp = NULL, ar1 = FALSE) {
                w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
                w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
   segments <- if (ar1) lapply(output_data(data), field_segments)
-  hsgp_stan_data(sd, hsgp, segments)
+  sd <- hsgp_stan_data(sd, hsgp, segments)
+  # the sampler's z is u itself until laplace_map() sets the map
+  n_u <- sd$q + (sd$p + 2L + sd$ar) * sd$K + sd$n_h
+  c(sd, list(n_u = n_u, u_offset = as.array(numeric(n_u)), u_scale = diag(n_u)))
 }
 
 # koh_basis.stan's data of the additive Hilbert-space discrepancy added to
@@ -298,6 +301,23 @@ basis_inits <- function(init) {
     }
     c(chain[names(chain) != "tf"], list(tf_u = as.array(linear_box_inverse(chain$tf))))
   })
+}
+
+# koh_basis.stan's z for values of its named parameters (a list as one
+# chain's starting values: tf_u, rho_delta, lambda_delta, lambda_e, gamma,
+# phi): their unconstrained values u, in the program's order and by its
+# transforms, then z = u_scale^-1 (u - u_offset). A parameter not given
+# starts where Stan starts one, u ~ U(-2, 2).
+basis_z <- function(values, sd) {
+  size <- c(tf_u = sd$q, rho_delta = sd$p * sd$K, lambda_delta = sd$K, lambda_e = sd$K,
+            gamma = sd$n_h, phi = sd$ar * sd$K)
+  to_u <- list(tf_u = function(v) v / sd$tf_multiplier, rho_delta = stats::qlogis, lambda_delta = log,
+               lambda_e = log, gamma = identity, phi = function(v) stats::qlogis((v + 1) / 2))
+  u <- unlist(lapply(names(size), function(par) {
+    v <- values[[par]]
+    if (is.null(v)) stats::runif(size[[par]], -2, 2) else to_u[[par]](as.numeric(v))
+  }))
+  as.array(solve(sd$u_scale, u - sd$u_offset))
 }
 
 # u = g^-1(tf) for linear_box_lp() of koh_basis.stan, g(u) = a (log(1 +

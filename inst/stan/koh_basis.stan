@@ -40,6 +40,15 @@ functions {
     return tf;
   }
 
+  /* log |d inv_logit(x) / dx| summed, log inv_logit(x) + log(1 - inv_logit(x)):
+   * the change of variables to a (0, 1) parameter from its logit (and to
+   * phi = 2 inv_logit(x) - 1, less the constant log 2). */
+  real logit_jacobian(vector x) {
+    real s = 0;
+    for (k in 1:rows(x)) s += log_inv_logit(x[k]) + log1m_inv_logit(x[k]);
+    return s;
+  }
+
   /* The variance of each basis function's coefficient in the additive
    * Hilbert-space approximate discrepancy (R/fit-hsgp.R; Riutort-Mayol,
    * Burkner, Andersen, Solin & Vehtari 2023, Stat Comput 33, Eq 1):
@@ -118,20 +127,36 @@ data {
   matrix[ar * n_z, ar * n_z] gram_lag;
   matrix[ar * n_z, ar * n_z] gram_end;
   vector<lower=1>[ar * K] n_seg;
+  // Stan samples z, u = u_offset + u_scale z (R/fit-chains.R, laplace_map():
+  // the identity, or the Laplace approximation at a mode so that the
+  // sampler's first, unit metric fits); u is the parameters' unconstrained
+  // values in this order: tf_u / tf_multiplier (q), logit rho_delta (p K),
+  // log lambda_delta (K), log lambda_e (K), gamma (n_h), logit((phi + 1) / 2) (ar K)
+  int<lower=1> n_u;
+  vector[n_u] u_offset;
+  matrix[n_u, n_u] u_scale;
 }
 parameters {
-  // calibration parameters, tf = g(tf_u), sampled as tf_u / tf_multiplier
-  vector<multiplier=tf_multiplier>[q] tf_u;
-  // rho_delta, lambda_delta, lambda_e (each output's), gamma
-#include /include/koh_stage2_parameters.stan
-  vector<lower=-1, upper=1>[ar * K] phi; // each output's AR(1) coefficient (uniform prior)
+  vector[n_u] z;
 }
 transformed parameters {
+  vector[n_u] u = u_offset + u_scale * z;
+  // calibration parameters, tf = g(tf_u)
+  vector[q] tf_u = tf_multiplier * head(u, q);
+  // output k's rho_delta are elements (k - 1) p + 1 to k p
+  vector[p * K] rho_delta = inv_logit(segment(u, q + 1, p * K));
+  vector[K] lambda_delta = exp(segment(u, q + p * K + 1, K)); // each output's discrepancy precision
+  vector[K] lambda_e = exp(segment(u, q + p * K + K + 1, K)); // each output's noise precision
+  vector[n_h] gamma = head(tail(u, n_h + ar * K), n_h);       // the discrepancy terms' coefficients
+  vector[ar * K] phi = 2 * inv_logit(tail(u, ar * K)) - 1;    // each output's AR(1) coefficient
   vector[q] tf = linear_box_lp(tf_u, tf_edge);
   vector[p * K] beta_delta = -4 * log(rho_delta);
 }
 model {
   vector[2 * pc] wv = basis_components(tf, tc, w_coef, w_beta, w_s2, w_nug, w_alpha, w_Ki);
+  // the change of variables from u (phi's prior is uniform on (-1, 1))
+  target += logit_jacobian(segment(u, q + 1, p * K)) + sum(segment(u, q + p * K + 1, 2 * K))
+            + logit_jacobian(tail(u, ar * K));
   // priors of the calibration parameters, the discrepancy and the noise
 #include /include/koh_stage2_priors.stan
   for (k in 1:K) {
@@ -141,31 +166,31 @@ model {
     int pc_k = output_size(pc_output, k);
     if (hsgp) {
       // r = Z_k a, a = (-w, 0, 1, -gamma), errors N(0, d R): r'R^-1 r = a' G a and
-      // U'R^-1 r = (G a)[1:u], G = Z_k' R^-1 Z_k; R = I, or with AR(1) errors
+      // U'R^-1 r = (G a)[1:nu], G = Z_k' R^-1 Z_k; R = I, or with AR(1) errors
       // (1 - phi^2) R^-1 = (1 + phi^2) I - phi^2 E - phi (S + S') (tridiagonal
       // within segments) and log|R| = (rows - segments) log(1 - phi^2)
-      int u = pc_k + m * p;
-      int nz = u + 1 + n_h;
-      int z = c + (k - 1) * (m * p + 1 + n_h);
+      int nu = pc_k + m * p;
+      int nz = nu + 1 + n_h;
+      int at = c + (k - 1) * (m * p + 1 + n_h);
       vector[nz] a = append_row(append_row(-segment(wv, c, pc_k), rep_vector(0, m * p)),
                                 append_row(rep_vector(1, 1), -gamma));
-      vector[u] c_k = append_row(segment(wv, pc + c, pc_k),
+      vector[nu] c_k = append_row(segment(wv, pc + c, pc_k),
                                  hsgp_spectral(omega, segment(beta_delta, (k - 1) * p + 1, p),
                                                lambda_delta[k]));
       real d_k = s2r[k] + noise_weight[s] / lambda_e[k];
       if (ar) {
         // the data blocks times a first, so that only U'R^-1 U is formed with phi
         real f2 = square(phi[k]);
-        vector[nz] ga = ((1 + f2) * (block(gram, z, z, nz, nz) * a)
-                         - f2 * (block(gram_end, z, z, nz, nz) * a)
-                         - phi[k] * (block(gram_lag, z, z, nz, nz) * a)) / (1 - f2);
-        matrix[u, u] uu = ((1 + f2) * block(gram, z, z, u, u) - f2 * block(gram_end, z, z, u, u)
-                           - phi[k] * block(gram_lag, z, z, u, u)) / (1 - f2);
-        target += normal_lowrank(dot_product(a, ga), head(ga, u), uu, c_k, d_k, len)
+        vector[nz] ga = ((1 + f2) * (block(gram, at, at, nz, nz) * a)
+                         - f2 * (block(gram_end, at, at, nz, nz) * a)
+                         - phi[k] * (block(gram_lag, at, at, nz, nz) * a)) / (1 - f2);
+        matrix[nu, nu] uu = ((1 + f2) * block(gram, at, at, nu, nu) - f2 * block(gram_end, at, at, nu, nu)
+                           - phi[k] * block(gram_lag, at, at, nu, nu)) / (1 - f2);
+        target += normal_lowrank(dot_product(a, ga), head(ga, nu), uu, c_k, d_k, len)
                   - 0.5 * (len - n_seg[k]) * log1m(f2);
       } else {
-        vector[nz] ga = block(gram, z, z, nz, nz) * a;
-        target += normal_lowrank(dot_product(a, ga), head(ga, u), block(gram, z, z, u, u), c_k, d_k,
+        vector[nz] ga = block(gram, at, at, nz, nz) * a;
+        target += normal_lowrank(dot_product(a, ga), head(ga, nu), block(gram, at, at, nu, nu), c_k, d_k,
                                  len);
       }
     } else {

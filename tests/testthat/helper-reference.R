@@ -127,6 +127,17 @@ stan_log_density <- function(model, pars) {
   rstan::log_prob(model, rstan::unconstrain_pars(model, pars), adjust_transform = FALSE)
 }
 
+# koh_basis.stan's log density with data `sd` at its named parameters
+# `pars` (tf_u, rho_delta, lambda_delta, lambda_e, gamma, phi), priors and
+# tf_u's g'(u) included: it samples z (basis_z()) and adds the change of
+# variables from u itself (logit for rho_delta, log for the precisions,
+# logit of (phi + 1) / 2), which is taken out here.
+basis_log_density <- function(model, sd, pars) {
+  change <- sum(log(pars$rho_delta * (1 - pars$rho_delta))) + sum(log(pars$lambda_delta)) +
+    sum(log(pars$lambda_e)) + sum(log((1 - pars$phi^2) / 4))
+  rstan::log_prob(model, bayesbem:::basis_z(pars, sd), adjust_transform = FALSE) - change
+}
+
 # Stan's log density of the KOH program with data `sd` equals the R
 # reference at `times` random parameter values.
 expect_log_density_matches <- function(sd, times) {

@@ -186,6 +186,9 @@ test_that("draws go to Stan's unconstrained scale, parameters block only", {
   u <- bayesbem:::unconstrained_draws(cbind(draws, `tf_u[1]` = c(-1, 3)))
   expect_equal(colnames(u), c("rho_eta[2]", "lambda_e", "b[1]", "tf_u[1]"))
   expect_equal(unname(u[, 4]), c(-1, 3))
+  # where it samples z, z alone
+  z <- bayesbem:::unconstrained_draws(cbind(draws, `tf_u[1]` = c(-1, 3), `z[1]` = c(0.1, 0.2)))
+  expect_equal(colnames(z), "z[1]")
 })
 
 test_that("dropped and restarted chains are named in the message and the summary", {
@@ -291,4 +294,44 @@ test_that("a chain started at the mode starts where the gradient vanishes, from 
   }
   # the same seed and chain, the same start
   expect_equal(bayesbem:::mode_start(model, sd, 7, 1), starts[[1]])
+})
+
+test_that("koh_basis.stan samples through the Laplace approximation at a mode", {
+  skip_on_cran()
+  withr::local_seed(27)
+  d <- random_grid_data(n = 12, runs = 8, extra = 2)
+  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * (0:11)
+  d$names$period <- "time"
+  priors <- koh_priors()
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))),
+                   basis = bayesbem:::basis_emulator(d, variance = 0.99))
+  sd <- bayesbem:::basis_stan_data(d, priors, emulator, bayesbem:::hsgp_design(m = 6, boundary = 3),
+                                   ar1 = TRUE)
+  expect_equal(sd$n_u, d$q + d$p + 3)
+  expect_equal(sd$u_scale, diag(sd$n_u))
+  mapped <- bayesbem:::laplace_map(bayesbem:::stanmodels$koh_basis, sd, 5)
+  identity <- koh_model_for(sd, "koh_basis")
+  instance <- koh_model_for(mapped, "koh_basis")
+  # the same density at z as the identity's at u = u_offset + u_scale z
+  for (i in 1:3) {
+    z <- stats::rnorm(sd$n_u)
+    u <- as.numeric(mapped$u_offset) + drop(mapped$u_scale %*% z)
+    expect_equal(rstan::log_prob(instance, z), rstan::log_prob(identity, u), tolerance = 1e-8)
+  }
+  # z = 0 is the mode, where the density's curvature in z is the unit
+  # matrix (1 along directions of curvature 0.01 or more, less along flatter
+  # ones), from the Hessian in u by central differences, independently
+  expect_lt(max(abs(rstan::grad_log_prob(instance, numeric(sd$n_u)))), 1e-3)
+  h_u <- -bayesbem:::log_prob_hessian(identity, mapped$u_offset)
+  lambda <- eigen(h_u, symmetric = TRUE, only.values = TRUE)$values
+  expected <- ifelse(lambda > 0, lambda / pmax(lambda, 0.01), lambda)
+  h_z <- -bayesbem:::log_prob_hessian(instance, numeric(sd$n_u))
+  expect_equal(h_z, diag(expected), tolerance = 1e-3)
+  # starting values by name reach z and come back
+  values <- list(tf_u = as.array(c(0.2, 0.5, 0.7)), rho_delta = as.array(rep(0.7, d$p)),
+                 lambda_delta = as.array(30), lambda_e = as.array(200), gamma = numeric(0),
+                 phi = as.array(0.6))
+  back <- rstan::constrain_pars(instance, bayesbem:::basis_z(values, mapped))
+  for (par in names(values)) expect_equal(as.numeric(back[[par]]), as.numeric(values[[par]]))
 })
