@@ -337,10 +337,10 @@ fit_stage1 <- function(data, priors, seed, on_failure, emulator) {
 # each size and emulator, what converged most often in the reliability
 # benchmark (bench/RESULTS.md, "Reliability"; why in inst/notes/design.md,
 # "Sampling" and "Stage-2 geometry"). The additive discrepancy's chains
-# start at a mode (mode_start()), so 500 + 500 iterations, a first metric
-# after 50 (not 100) and trees of at most 2^8 steps, which only the
-# unit metric's first iterations reach (bench/RESULTS.md, "A year of
-# hours").
+# start at a mode (mode_start()) and sample through the Laplace
+# approximation at one (laplace_map()), so 500 + 500 iterations, a first
+# metric after 50 (not 100) and trees of at most 2^8 steps
+# (bench/RESULTS.md, "A year of hours").
 default_sampling <- function(modular, n, emulator = "separable", kernel = "product") {
   if (kernel == "additive") {
     return(list(iter = 1000L, warmup = 500L,
