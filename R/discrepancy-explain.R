@@ -150,14 +150,12 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   family <- rep(c("main", "region"), c(length(main), length(terms) - length(main)))
   g <- gp_geometry(data, NULL, fit_structure(fit))
   pars <- draw_parameters(fit, ndraws)
-  given_runs <- lapply(pars, function(par) residual_given_runs(g, par))
-  residual <- do.call(rbind, lapply(given_runs, `[[`, "residual"))
+  given_runs <- residuals_given_runs(g, pars)
+  residual <- given_runs$residual
   tf <- do.call(rbind, lapply(pars, `[[`, "tf"))
   basis <- recalibration_basis(-residual, tf)
   nuisance <- qr(basis)
-  mean_of <- function(part) Reduce(`+`, lapply(given_runs, `[[`, part)) / length(given_runs)
-  inflation <- emulator_inflation(g, pars)
-  null_cov <- inflation * mean_of("emulator") + mean_of("noise")
+  null_cov <- emulator_inflation(g, pars) * given_runs$emulator + given_runs$noise
   n <- data$n
   null <- with_seed(seed, crossprod(jittered_chol(null_cov), matrix(stats::rnorm(n * n_null), n)))
   mean_residual <- colMeans(residual)

@@ -3,16 +3,24 @@
 # model, the recalibration basis projected out, each term's normal
 # score, the max-statistic p-values and the cross-validated gain.
 
-# For one draw: the field outputs' residual from the emulator's mean given
-# the runs (standardised, less any parametric discrepancy terms), and the
-# parts of its covariance without a discrepancy: the emulator's uncertainty
-# given the runs and the noise covariance.
-residual_given_runs <- function(g, par) {
-  rg <- residual_geometry(g, par)
-  fm <- field_given_runs(rg, par)
-  noise <- noise_cov(g, par)
-  emulator <- fm$cov - delta_cov(g$ff, par) - noise
-  list(residual = field_y(rg, par) - fm$mean, emulator = emulator, noise = noise)
+# For each draw of `pars`: the field outputs' residual from the emulator's
+# mean given the runs (standardised, less any parametric discrepancy terms;
+# `residual`, draws by rows), and the parts of its covariance without a
+# discrepancy, averaged over the draws: the emulator's uncertainty given the
+# runs (`emulator`) and the noise covariance (`noise`). The averages are
+# summed as the draws come, so that one n x n matrix of each is held, not
+# two per draw (8.5 GB for 4,000 draws of a year of days).
+residuals_given_runs <- function(g, pars) {
+  out <- list(residual = matrix(0, length(pars), g$n), emulator = 0, noise = 0)
+  for (i in seq_along(pars)) {
+    rg <- residual_geometry(g, pars[[i]])
+    fm <- field_given_runs(rg, pars[[i]])
+    noise <- noise_cov(g, pars[[i]])
+    out$residual[i, ] <- field_y(rg, pars[[i]]) - fm$mean
+    out$emulator <- out$emulator + (fm$cov - delta_cov(g$ff, pars[[i]]) - noise) / length(pars)
+    out$noise <- out$noise + noise / length(pars)
+  }
+  out
 }
 
 # How much the emulator understates its own error: the mean squared

@@ -81,8 +81,9 @@ test_that("shares are fractions with intervals, p-values adjusted", {
 test_that("the null keeps the model's structure: residuals given the runs, covariance without delta", {
   fit <- seb_fit
   g <- bayesbem:::gp_geometry(fit$data, NULL, "grid")
-  par <- bayesbem:::draw_parameters(fit, 3)[[2]]
-  out <- bayesbem:::residual_given_runs(g, par)
+  pars <- bayesbem:::draw_parameters(fit, 3)
+  par <- pars[[2]]
+  out <- bayesbem:::residuals_given_runs(g, list(par))
   # independently, on the dense algebra: y given the runs has mean m and
   # covariance S; without the discrepancy the covariance is S - Sigma_delta
   gd <- bayesbem:::gp_geometry(fit$data, NULL, "dense")
@@ -91,11 +92,17 @@ test_that("the null keeps the model's structure: residuals given the runs, covar
   f <- seq_len(12)
   m <- drop(sigma[f, -f] %*% solve(sigma[-f, -f], rg$eta))
   s <- sigma[f, f] - sigma[f, -f] %*% solve(sigma[-f, -f], sigma[-f, f])
-  expect_equal(out$residual, rg$y - m, tolerance = 1e-6)
+  expect_equal(drop(out$residual), rg$y - m, tolerance = 1e-6)
   expect_equal(out$emulator + out$noise, s - bayesbem:::delta_cov(gd$ff, par),
                tolerance = 1e-6)
   # periods of one length, white noise: every row has the noise 1 / lambda_e
   expect_equal(out$noise, diag(1 / par$lambda_e, 12), ignore_attr = TRUE)
+  # over several draws: each draw's residual, the covariances' means
+  each <- lapply(pars, function(p) bayesbem:::residuals_given_runs(g, list(p)))
+  all <- bayesbem:::residuals_given_runs(g, pars)
+  expect_equal(all$residual, do.call(rbind, lapply(each, `[[`, "residual")))
+  expect_equal(all$emulator, Reduce(`+`, lapply(each, `[[`, "emulator")) / 3)
+  expect_equal(all$noise, Reduce(`+`, lapply(each, `[[`, "noise")) / 3)
 })
 
 test_that("a share's interval is the jackknife over blocks of periods, not the draws' spread", {
