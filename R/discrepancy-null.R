@@ -79,14 +79,15 @@ recalibration_basis <- function(eta, tf) {
 }
 
 # Share of the residual variance a term explains beyond recalibration
-# (partial R^2 given the QR-decomposed `nuisance` basis): per draw (rows of
-# `residual`), summarised by their mean, with the interval of
-# share_interval() over the `blocks` of periods (jackknife_blocks()); and
-# the term's standing against chance (chance_z()).
-term_scores <- function(b, residual, nuisance, null, level, blocks) {
-  free <- qr.resid(nuisance, t(residual))
+# (partial R^2 given the QR-decomposed `nuisance` basis): per draw (the
+# columns of `free`, the draws' residuals made orthogonal to `nuisance`),
+# summarised by their mean, with the interval of share_interval() over the
+# `blocks` of periods (jackknife_blocks()); and the term's standing against
+# chance (chance_z(), on the null residuals `null_free`, orthogonal to
+# `nuisance` too). The caller projects both once for all terms.
+term_scores <- function(b, free, null_free, nuisance, level, blocks) {
   shares <- partial_r_squared(b, free, nuisance)
-  chance <- chance_z(b, rowMeans(free), qr.resid(nuisance, null), nuisance)
+  chance <- chance_z(b, rowMeans(free), null_free, nuisance)
   left_out <- vapply(blocks, function(k) {
     partial_r_squared(b[k$rows, , drop = FALSE], k$free, k$nuisance)
   }, numeric(1))

@@ -121,7 +121,9 @@ test_that("a share's interval is the jackknife over blocks of periods, not the d
   full <- stats::lm(r[rows] ~ basis[rows, 2] + b[rows, 1])
   partial <- 1 - sum(stats::residuals(full)^2) / sum(stats::residuals(reduced)^2)
   residual <- matrix(r, 1)
-  s <- bayesbem:::term_scores(b, residual, qr(basis), matrix(stats::rnorm(n * 5), n), 0.9, blocks)
+  q <- qr(basis)
+  s <- bayesbem:::term_scores(b, qr.resid(q, t(residual)), qr.resid(q, matrix(stats::rnorm(n * 5), n)),
+                              q, 0.9, blocks)
   left_out <- vapply(blocks, function(k) {
     rss <- function(fit) sum(stats::residuals(fit)^2)
     1 - rss(stats::lm(r[k$rows] ~ basis[k$rows, 2] + b[k$rows, 1])) /
@@ -253,12 +255,13 @@ test_that("on simulated nulls each family of terms holds its share of alpha", {
   regions <- bayesbem:::region_terms(inputs, inputs)
   family <- rep(c("main", "region"), c(length(main), length(regions)))
   nuisance <- qr(matrix(1, n))
-  null <- matrix(stats::rnorm(n * 400), n)
+  null_free <- qr.resid(nuisance, matrix(stats::rnorm(n * 400), n))
   alarms <- vapply(seq_len(100), function(i) {
     r <- matrix(stats::rnorm(n), 1)
     blocks <- bayesbem:::jackknife_blocks(matrix(1, n), drop(r))
+    free <- qr.resid(nuisance, t(r))
     scores <- lapply(c(main, regions), function(b) {
-      bayesbem:::term_scores(b, r, nuisance, null, 0.9, blocks)
+      bayesbem:::term_scores(b, free, null_free, nuisance, 0.9, blocks)
     })
     p <- bayesbem:::adjusted_p_values(scores, family, bayesbem:::region_weights)
     c(main = any(p[family == "main"] < 0.05), region = any(p[family == "region"] < 0.05))
