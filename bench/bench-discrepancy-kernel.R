@@ -5,20 +5,42 @@
 # (bayesbem:::synthetic_problem(): the embedded model on the 2013 daily
 # weather, three parameters, 30 runs, noise 2 % of the mean output,
 # correct simulator), every sixth day held out. calibrate()'s defaults
-# (basis emulator, 4 chains x 3000) but for the kernel. Per problem and
+# (basis emulator, 4 chains) but for the kernel. Per problem and
 # kernel: each parameter's posterior mean and sd, the difference of the
 # means in Monte Carlo standard errors of the difference, the truth inside
 # the 90 % intervals, the held-out days' 90 % predictive intervals (mean
 # width, coverage of the measured use), max R-hat, divergences, the
 # sampling time and min bulk ESS per second.
+# With "hours": the same comparison on hourly data, the paper's dense
+# likelihood against the additive one at sizes the dense one finishes: the
+# embedded hourly model on the 2013 weather, `hours` hours from 1 June
+# (cooling and the working week in them), the three parameters
+# of bench-year-hours.R at mid-range, white noise (sd 0.5 kWh), 30 runs.
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-discrepancy-kernel.R [problems, e.g. 1-3] [chains] [iter]
+#   Rscript bench/bench-discrepancy-kernel.R hours [hours, e.g. 168,336] [chains] [iter]
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE, width = 200)
 args <- commandArgs(trailingOnly = TRUE)
-span <- as.integer(strsplit(if (length(args) > 0) args[1] else "1-3", "-")[[1]])
+hourly <- length(args) > 0 && args[1] == "hours"
+if (hourly) args <- args[-1]
+span <- as.integer(strsplit(if (length(args) > 0) args[1] else "1-3", if (hourly) "," else "-")[[1]])
 chains <- if (length(args) > 1) as.integer(args[2]) else 4L
 iter <- if (length(args) > 2) as.integer(args[3])
+
+# An hourly problem of bench-year-hours.R's kind: `hours` hours from 1 June.
+hourly_problem <- function(hours) {
+  epw <- system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")
+  sim <- bem_simulator(epw, by = "hour")
+  keep <- 24 * 151 + seq_len(hours)
+  names <- c("equipment_power_density", "infiltration_per_exterior_area", "cooling_setpoint")
+  params <- sim$parameters[sim$parameters$parameter %in% names, ]
+  truth <- stats::setNames(as.list((params$min + params$max) / 2), params$parameter)
+  use <- simulate_field(sim, truth, noise_sd = 0.5, seed = hours)
+  runs <- simulate_design(sim, design_lhs(params, n = 30, seed = 2))
+  runs <- runs[rep((seq_len(30) - 1L) * nrow(sim$x), each = hours) + keep, ]
+  list(field = use[keep, ], runs = runs, truth = truth, simulator = sim, rows = keep)
+}
 
 one_fit <- function(problem, kernel, k) {
   held_out <- seq(6, nrow(problem$field), by = 6)
@@ -30,7 +52,12 @@ one_fit <- function(problem, kernel, k) {
   seconds <- proc.time()[["elapsed"]] - start
   s <- summary(fit)$parameters
   truth <- unlist(problem$truth)[rownames(s)]
-  pred <- predict(fit, problem$field[held_out, names(problem$simulator$x)], noise = TRUE)
+  # held-out days through the simulator at 200 draws: the additive fit's
+  # basis emulator knows the simulator only at its field rows
+  rows <- if (is.null(problem$rows)) seq_len(nrow(problem$field)) else problem$rows
+  y <- predict_scenario(fit, problem$simulator, ndraws = 200)$y[, rows[held_out]]
+  pred <- data.frame(q5 = apply(y, 2, stats::quantile, 0.05),
+                     q95 = apply(y, 2, stats::quantile, 0.95))
   obs <- problem$field$y[held_out]
   draws <- posterior::subset_draws(posterior::as_draws(fit), variable = rownames(s))
   sampler <- attr(check_convergence(fit, warn = FALSE), "sampler")
@@ -44,8 +71,8 @@ one_fit <- function(problem, kernel, k) {
 }
 
 rows <- list()
-for (k in seq(span[1], span[length(span)])) {
-  problem <- bayesbem:::synthetic_problem(365, 30, k)
+for (k in if (hourly) span else seq(span[1], span[length(span)])) {
+  problem <- if (hourly) hourly_problem(k) else bayesbem:::synthetic_problem(365, 30, k)
   for (kernel in c("product", "additive")) {
     row <- one_fit(problem, kernel, k)
     print(row, digits = 3, row.names = FALSE)
