@@ -39,7 +39,11 @@ hourly_problem <- function(hours) {
   use <- simulate_field(sim, truth, noise_sd = 0.5, seed = hours)
   runs <- simulate_design(sim, design_lhs(params, n = 30, seed = 2))
   runs <- runs[rep((seq_len(30) - 1L) * nrow(sim$x), each = hours) + keep, ]
-  list(field = use[keep, ], runs = runs, truth = truth, simulator = sim, rows = keep)
+  # the simulator of the window: the year run (the model carries its heat
+  # from hour to hour), its hours kept
+  window <- simulator(function(params, x) sim$fun(params, sim$x)[keep], sim$x[keep, ],
+                      sim$parameters, periods = sim$periods[keep, ])
+  list(field = use[keep, ], runs = runs, truth = truth, simulator = window)
 }
 
 one_fit <- function(problem, kernel, k) {
@@ -54,8 +58,7 @@ one_fit <- function(problem, kernel, k) {
   truth <- unlist(problem$truth)[rownames(s)]
   # held-out days through the simulator at 200 draws: the additive fit's
   # basis emulator knows the simulator only at its field rows
-  rows <- if (is.null(problem$rows)) seq_len(nrow(problem$field)) else problem$rows
-  y <- predict_scenario(fit, problem$simulator, ndraws = 200)$y[, rows[held_out]]
+  y <- predict_scenario(fit, problem$simulator, ndraws = 200)$y[, held_out]
   pred <- data.frame(q5 = apply(y, 2, stats::quantile, 0.05),
                      q95 = apply(y, 2, stats::quantile, 0.95))
   obs <- problem$field$y[held_out]
