@@ -247,7 +247,7 @@ basis_stan_data <- function(data, priors, emulator, hsgp = NULL, ar1 = FALSE) {
   segments <- if (ar1) lapply(output_data(data), field_segments)
   sd <- hsgp_stan_data(sd, hsgp, segments)
   # the sampler's z is u itself until laplace_map() sets the map
-  n_u <- sd$q + (sd$p + 2L + sd$ar) * sd$K + sd$n_h
+  n_u <- sum(basis_u_sizes(sd))
   c(sd, list(n_u = n_u, u_offset = as.array(numeric(n_u)), u_scale = diag(n_u)))
 }
 
@@ -303,14 +303,20 @@ basis_inits <- function(init) {
   })
 }
 
+# The named parameters koh_basis.stan builds from u, in u's order, and the
+# elements of each (its data `sd`).
+basis_u_sizes <- function(sd) {
+  c(tf_u = sd$q, rho_delta = sd$p * sd$K, lambda_delta = sd$K, lambda_e = sd$K, gamma = sd$n_h,
+    phi = sd$ar * sd$K)
+}
+
 # koh_basis.stan's z for values of its named parameters (a list as one
 # chain's starting values: tf_u, rho_delta, lambda_delta, lambda_e, gamma,
 # phi): their unconstrained values u, in the program's order and by its
 # transforms, then z = u_scale^-1 (u - u_offset). A parameter not given
 # starts where Stan starts one, u ~ U(-2, 2).
 basis_z <- function(values, sd) {
-  size <- c(tf_u = sd$q, rho_delta = sd$p * sd$K, lambda_delta = sd$K, lambda_e = sd$K,
-            gamma = sd$n_h, phi = sd$ar * sd$K)
+  size <- basis_u_sizes(sd)
   to_u <- list(tf_u = function(v) v / sd$tf_multiplier, rho_delta = stats::qlogis, lambda_delta = log,
                lambda_e = log, gamma = identity, phi = function(v) stats::qlogis((v + 1) / 2))
   u <- unlist(lapply(names(size), function(par) {
