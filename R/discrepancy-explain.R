@@ -179,7 +179,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   out$z[lines] <- pmax(out$z[lines], vapply(slopes, function(s) s$summary$z, numeric(1)))
   baseline <- press(basis, mean_residual)
   out$cv_gain <- vapply(names(terms), function(l) {
-    cv_gain(mean_residual, basis, terms[[l]], baseline, is_line(l))
+    cv_gain(mean_residual, basis, terms[[l]], baseline, is_line(l), nuisance)
   }, numeric(1), USE.NAMES = FALSE)
   out$explains <- out$p_value < alpha & out$cv_gain > 0
   # named regions get the cut the data put the edge at, and a line that
@@ -194,7 +194,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
     names(terms)[i] <- out$candidate[i] <- label
     scores[[i]] <- term_scores(terms[[i]], free_draws, null_free, nuisance, level, blocks)
     out[i, c("share", "lower", "upper")] <- scores[[i]]$summary[c("share", "lower", "upper")]
-    out$cv_gain[i] <- cv_gain(mean_residual, basis, terms[[i]], baseline, is_line(label))
+    out$cv_gain[i] <- cv_gain(mean_residual, basis, terms[[i]], baseline, is_line(label), nuisance)
     out$explains[i] <- out$cv_gain[i] > 0
   }
   out <- out[order(!out$explains, -out$share), ]

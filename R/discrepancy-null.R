@@ -184,12 +184,14 @@ press <- function(x, r) {
 # PRESS(basis), PRESS the sum of squared leave-one-out errors of the least
 # squares fit, e_i / (1 - h_ii). Positive when the term predicts left-out
 # rows (a term that only fits noise, or a few rows, makes PRESS larger).
-# The term's columns as free_columns() keeps them; 0 when none is left. A
+# The term's columns as free_columns() keeps them (`nuisance`, qr(basis),
+# factored once by the caller for all terms); 0 when none is left. A
 # `line` (its step, then its slope) predicts when it or its slope alone
 # does.
-cv_gain <- function(r, basis, b, baseline = press(basis, r), line = FALSE) {
+cv_gain <- function(r, basis, b, baseline = press(basis, r), line = FALSE,
+                    nuisance = qr(basis)) {
   gain <- function(columns) {
-    columns <- columns[, free_columns(columns, qr(basis)), drop = FALSE]
+    columns <- columns[, free_columns(columns, nuisance), drop = FALSE]
     if (ncol(columns) == 0L) 0 else 1 - press(cbind(basis, columns), r) / baseline
   }
   b <- cbind(b)
