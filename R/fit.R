@@ -105,8 +105,11 @@
 #'   cost"). Needs the basis emulator and periods of one length. `"auto"`
 #'   (the default) is `"additive"` above 400 field rows (in the largest
 #'   output) when it can be, `"product"` otherwise: the posteriors agree
-#'   where both run (`bench/RESULTS.md`, "Discrepancy kernel at 365
-#'   days").
+#'   where both run (`bench/RESULTS.md`, "Discrepancy kernel"). A sum
+#'   cannot hold an effect of two inputs together (a load of weekend
+#'   hours alone), which then biases the parameters: give such a
+#'   combination as an input of its own, as the hourly simulators'
+#'   `daytype_hour` (see [bem_simulator()]).
 #' @param noise_correlation The observation noise's correlation between
 #'   consecutive periods: `"none"`, independent noise (the paper's); or
 #'   `"ar1"`, an AR(1) process over periods one step apart (hourly
