@@ -254,7 +254,7 @@ bem_hourly_simulator <- function(path, parameters, building, output, by) {
 # what lets a discrepancy additive over the inputs (fit-hsgp.R) hold an
 # effect of the hour on weekends alone (a weekend plug load): a sum of a
 # weekday and an hour effect cannot, and the parameters take it up
-# (inst/notes/design.md, "Hourly calendar").
+# (inst/notes/design.md, S10).
 interval_inputs <- function(weather, by) {
   x <- weather_inputs(weather, FALSE)
   if (by %in% c("day", "hour")) x$weekday <- weather$weekday
