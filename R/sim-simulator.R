@@ -150,11 +150,11 @@ output_simulator <- function(simulator, output) {
 #' building and parameters) over the weather file, summed into weeks or
 #' days, or hour by hour: interval data without EnergyPlus. Its inputs are
 #' then the periods' mean weather, and by day also the `weekday` (1
-#' Monday to 7 Sunday), by hour the `weekday`, the `hour` (0-23) and the
-#' `daytype_hour` (the hour on weekdays, the hour plus 24 on weekends):
-#' the schedules act by hour of the week, and an additive discrepancy
-#' (large hourly data, see [calibrate()]) needs `daytype_hour` to hold a
-#' load that only weekends' or only weekdays' hours have.
+#' Monday to 7 Sunday), by hour the `weekday` and the `daytype_hour` (the
+#' hour, 0-23, on weekdays, the hour plus 24 on weekends): the schedules
+#' act by hour of the week, and an additive discrepancy (large hourly
+#' data, see [calibrate()]) needs the hour per day type to hold a load
+#' that only weekends' or only weekdays' hours have.
 #'
 #' With `periods` (e.g. bills on their own dates, see [epw_weather()]) the
 #' model runs once per period, at the period's mean weather over its hours:
@@ -249,19 +249,16 @@ bem_hourly_simulator <- function(path, parameters, building, output, by) {
 }
 
 # The inputs of a simulator by week, day or hour: the periods' mean
-# weather, by day also the weekday, by hour the weekday, the hour and the
-# hour of the day type (0-23 on weekdays, 24-47 on weekends). The last is
-# what lets a discrepancy additive over the inputs (fit-hsgp.R) hold an
-# effect of the hour on weekends alone (a weekend plug load): a sum of a
-# weekday and an hour effect cannot, and the parameters take it up
-# (inst/notes/design.md, S10).
+# weather, by day also the weekday, by hour the weekday and the hour of the
+# day type (0-23 on weekdays, 24-47 on weekends) in place of the hour: it
+# lets a discrepancy additive over the inputs (fit-hsgp.R) hold an effect
+# of the hour on weekends alone (a weekend plug load), which a sum of a
+# weekday and an hour effect cannot (the parameters took it up), and the
+# hour beside it would only add cost (inst/notes/design.md, S10).
 interval_inputs <- function(weather, by) {
   x <- weather_inputs(weather, FALSE)
   if (by %in% c("day", "hour")) x$weekday <- weather$weekday
-  if (by == "hour") {
-    x$hour <- weather$hour
-    x$daytype_hour <- weather$hour + 24L * (weather$weekday >= 6L)
-  }
+  if (by == "hour") x$daytype_hour <- weather$hour + 24L * (weather$weekday >= 6L)
   x
 }
 

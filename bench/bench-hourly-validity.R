@@ -43,7 +43,7 @@ params <- c("equipment_power_density", "infiltration_per_exterior_area", "coolin
 ranges <- pre$parameters[pre$parameters$parameter %in% params, ]
 retrofit <- scenario(post, scale = c(equipment_power_density = 0.7), name = "retrofit")
 keep <- seq_len(hours)
-weekend_load <- function(x) 0.6 * (x$weekday >= 6 & x$hour >= 8 & x$hour < 18)
+weekend_load <- function(x) 0.6 * (x$daytype_hour >= 24 + 8 & x$daytype_hour < 24 + 18)
 # stationary AR(1) noise: the recursion starts from a unit-variance draw
 ar1_noise <- function(n, phi = 0.7, sd = 0.5) {
   sd * as.numeric(stats::filter(stats::rnorm(n, sd = sqrt(1 - phi^2)), phi,

@@ -1,6 +1,6 @@
 # Benchmark (issue 55, time): a year of hourly data calibrated to
 # convergence with the public API. The embedded hourly model on the 2013
-# weather (inputs temp, rh, solar, weekday, hour, daytype_hour), three
+# weather (inputs temp, rh, solar, weekday, daytype_hour), three
 # parameters (equipment power density, infiltration, cooling setpoint) at
 # the middle of their ranges, the simulator's use there plus AR(1) noise
 # (phi 0.7, sd 0.5 kWh), the first `hours` hours with their times; `runs` LHS runs;

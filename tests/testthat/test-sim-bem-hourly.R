@@ -103,7 +103,7 @@ test_that("the simulator by day, week or hour sums the hourly model", {
   p$equipment_power_density <- 12
   h <- bem_hourly(p, w)
   hourly <- bem_simulator(epw, by = "hour", output = c("electricity", "gas"))
-  expect_named(hourly$x, c("temp", "rh", "solar", "weekday", "hour", "daytype_hour"))
+  expect_named(hourly$x, c("temp", "rh", "solar", "weekday", "daytype_hour"))
   # the hour of the day type: Monday to Friday 0-23, Saturday and Sunday 24-47
   weekend <- format(hourly$periods$start, "%u") %in% c("6", "7")
   expect_equal(hourly$x$daytype_hour, as.integer(format(hourly$periods$start, "%H")) + 24 * weekend)

@@ -107,7 +107,7 @@ test_that("EnergyPlus by hour: the hourly meter, each hour stamped by its end as
   hourly <- simulate_design(seb_eplus(by = "hour"), data.frame(equipment_power_density = 15))
   daily <- simulate_design(seb_eplus(by = "day"), data.frame(equipment_power_density = 15))
   expect_equal(nrow(hourly), 8760)
-  expect_named(hourly[2:7], c("temp", "rh", "solar", "weekday", "hour", "daytype_hour"))
+  expect_named(hourly[2:6], c("temp", "rh", "solar", "weekday", "daytype_hour"))
   w <- epw_weather(shipped_epw(2013), by = "hour")
   expect_equal(hourly$temp, w$temp)
   expect_equal(as.vector(tapply(hourly$eta, w$date, sum)), daily$eta, tolerance = 1e-9)
