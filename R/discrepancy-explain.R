@@ -46,7 +46,10 @@
 #' distribution over `n_null` residuals simulated from the fitted model
 #' without any hidden effect, `N(0, C)` with `C` the emulator's uncertainty
 #' at the field rows given the runs plus the observation noise (averaged
-#' over draws), projected like the data. The emulator's part is inflated by
+#' over draws), projected like the data; with the basis emulator (the
+#' default above 36 field rows) each null residual comes from one draw in
+#' turn (its components' uncertainty, truncated rest and white or AR(1)
+#' noise), at a cost linear in the rows. The emulator's part is inflated by
 #' how much the emulator understates its own error when each simulation
 #' run is predicted from the others (leave one run out), so an
 #' overconfident emulator does not raise alarms. Unlike shuffling the candidate,
@@ -148,16 +151,14 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   main <- main_terms(candidates)
   terms <- c(main, if (regions) region_terms(candidates, data$field[data$names$x]))
   family <- rep(c("main", "region"), c(length(main), length(terms) - length(main)))
-  g <- gp_geometry(data, NULL, fit_structure(fit))
+  g <- explanation_geometry(fit)
   pars <- draw_parameters(fit, ndraws)
   given_runs <- residuals_given_runs(g, pars)
   residual <- given_runs$residual
   tf <- do.call(rbind, lapply(pars, `[[`, "tf"))
   basis <- recalibration_basis(-residual, tf)
   nuisance <- qr(basis)
-  null_cov <- emulator_inflation(g, pars) * given_runs$emulator + given_runs$noise
-  n <- data$n
-  null <- with_seed(seed, crossprod(jittered_chol(null_cov), matrix(stats::rnorm(n * n_null), n)))
+  null <- with_seed(seed, null_residuals(g, pars, given_runs, emulator_inflation(g, pars), n_null))
   mean_residual <- colMeans(residual)
   blocks <- jackknife_blocks(basis, mean_residual)
   free_draws <- qr.resid(nuisance, t(residual))

@@ -3,14 +3,34 @@
 # model, the recalibration basis projected out, each term's normal
 # score, the max-statistic p-values and the cross-validated gain.
 
+# The geometry explain_discrepancy() needs: a fit with the basis emulator
+# keeps it and the field rows' outputs, terms, noise weights and AR(1)
+# segments, at a cost linear in the rows (no n x n pair of inputs); other
+# fits the Gaussian-process geometry.
+explanation_geometry <- function(fit) {
+  data <- fit$data
+  basis <- fit$emulator$basis
+  if (is.null(basis)) {
+    return(gp_geometry(data, NULL, fit_structure(fit)))
+  }
+  list(n = data$n, y = data$y, h = discrepancy_design(data), basis = basis,
+       noise = noise_weights(data), segments = data_segments(data) %||% rep(1L, data$n))
+}
+
 # For each draw of `pars`: the field outputs' residual from the emulator's
 # mean given the runs (standardised, less any parametric discrepancy terms;
-# `residual`, draws by rows), and the parts of its covariance without a
-# discrepancy, averaged over the draws: the emulator's uncertainty given the
-# runs (`emulator`) and the noise covariance (`noise`). The averages are
-# summed as the draws come, so that one n x n matrix of each is held, not
-# two per draw (8.5 GB for 4,000 draws of a year of days).
+# `residual`, draws by rows) and, but for the basis emulator, the parts of
+# its covariance without a discrepancy, averaged over the draws: the
+# emulator's uncertainty given the runs (`emulator`) and the noise
+# covariance (`noise`). The averages are summed as the draws come, so that
+# one n x n matrix of each is held, not two per draw (8.5 GB for 4,000
+# draws of a year of days).
 residuals_given_runs <- function(g, pars) {
+  if (!is.null(g$basis)) {
+    residual <- vapply(pars, function(par) field_y(g, par) - basis_eta(g$basis, par$tf)$mean,
+                       numeric(g$n))
+    return(list(residual = t(residual)))
+  }
   out <- list(residual = matrix(0, length(pars), g$n), emulator = 0, noise = 0)
   for (i in seq_along(pars)) {
     rg <- residual_geometry(g, pars[[i]])
@@ -23,6 +43,30 @@ residuals_given_runs <- function(g, pars) {
   out
 }
 
+# `n_null` residuals (columns) of the fitted model without any hidden
+# effect, the emulator's part inflated by `kappa` (emulator_inflation()):
+# N(0, kappa E + N), E and N the draws' mean covariances of
+# residuals_given_runs(). With the basis emulator, at a cost linear in the
+# rows, the j-th from the draws in turn: B (sqrt(kappa v(tf)) * z) plus
+# noise of variance kappa s2r + w / lambda_e (white, or AR(1) within the
+# segments), a mixture over the draws with the same covariance.
+null_residuals <- function(g, pars, given_runs, kappa, n_null) {
+  basis <- g$basis
+  if (is.null(basis)) {
+    cov <- kappa * given_runs$emulator + given_runs$noise
+    return(crossprod(jittered_chol(cov), matrix(stats::rnorm(g$n * n_null), g$n)))
+  }
+  pc <- ncol(basis$B)
+  sd_w <- matrix(vapply(pars, function(par) sqrt(kappa * basis_weights(basis, par$tf)$var),
+                        numeric(pc)), pc)
+  of <- (seq_len(n_null) - 1L) %% length(pars) + 1L
+  emulator <- basis$B %*% (sd_w[, of, drop = FALSE] * stats::rnorm(pc * n_null))
+  noise <- vapply(pars[of], function(par) {
+    sqrt(kappa * basis$s2r + noise_var(g, par)) * ar1_series(par$phi %||% 0, g$segments)
+  }, numeric(g$n))
+  emulator + noise
+}
+
 # How much the emulator understates its own error: the mean squared
 # standardised error of each simulation run predicted from the others
 # (leave one run out, at all its inputs), over up to 20 draws; 1 for a
@@ -30,6 +74,9 @@ residuals_given_runs <- function(g, pars) {
 # (the run's column of E given the other columns); others the precision
 # matrix of the runs (block of each run's rows).
 emulator_inflation <- function(g, pars) {
+  if (!is.null(g$basis)) {
+    return(basis_inflation(g$basis))
+  }
   pars <- pars[draw_subset(length(pars), 20L)]
   kappa <- vapply(pars, function(par) {
     rg <- residual_geometry(g, par)
@@ -54,6 +101,15 @@ emulator_inflation <- function(g, pars) {
     })))
   }, numeric(1))
   max(1, mean(kappa))
+}
+
+# The same for the basis emulator: the mean squared standardised error of
+# each run's weights predicted from the other runs by its component's
+# Gaussian process, alpha_a^2 / K^-1_aa (Rasmussen & Williams 2006, Eq
+# 5.12, the mean's coefficients b held), over runs and components.
+basis_inflation <- function(basis) {
+  z2 <- unlist(lapply(basis$components, function(gp) gp$alpha^2 / diag(gp$ki)))
+  max(1, mean(z2))
 }
 
 # What recalibration can do to the output at the field rows (n columns of

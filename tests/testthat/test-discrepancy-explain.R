@@ -105,6 +105,66 @@ test_that("the null keeps the model's structure: residuals given the runs, covar
   expect_equal(all$noise, Reduce(`+`, lapply(each, `[[`, "noise")) / 3)
 })
 
+test_that("with the basis emulator the null is the basis model's, at linear cost", {
+  withr::local_seed(24)
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  # hourly rows with a gap after the fourth: two AR(1) segments
+  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * c(0:3, 6:10)
+  d$names$period <- "time"
+  segments <- rep(1:2, c(4, 5))
+  priors <- koh_priors()
+  basis <- bayesbem:::basis_emulator(d, variance = 0.99)
+  fit <- structure(list(data = d, emulator = list(basis = basis)), class = "bayesbem_fit")
+  g <- bayesbem:::explanation_geometry(fit)
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))), basis = basis)
+  sd <- bayesbem:::basis_stan_data(d, priors, emulator,
+                                   bayesbem:::hsgp_design(m = 6, boundary = 3), ar1 = TRUE)
+  pars <- lapply(c(0.6, -0.3), function(phi) {
+    list(tf = stats::runif(d$q, 0.1, 0.9), rho_delta = rep(0.5, 2), lambda_delta = 1,
+         lambda_e = stats::rgamma(1, 10, 0.3), gamma = numeric(0), phi = phi)
+  })
+  # each draw's mean and covariance without the discrepancy, element by element
+  refs <- lapply(pars, function(par) {
+    reference_basis(sd, basis, par, function(...) 0, reference_ar1_cor(par$phi, segments))
+  })
+  given_runs <- bayesbem:::residuals_given_runs(g, pars)
+  expect_equal(given_runs$residual, t(vapply(refs, function(r) d$y - r$mean, numeric(9))),
+               tolerance = 1e-8, ignore_attr = TRUE)
+  # the null residuals' covariance is the draws' mean one (Monte Carlo, 40,000)
+  null <- bayesbem:::null_residuals(g, pars, given_runs, kappa = 1, n_null = 40000)
+  expected <- (refs[[1]]$cov + refs[[2]]$cov) / 2
+  expect_lt(max(abs(stats::cov(t(null)) - expected)) / max(diag(expected)), 0.03)
+  # the emulator's part is inflated by kappa: components and truncated rest
+  emulator <- expected - Reduce(`+`, lapply(pars, function(par) {
+    reference_ar1_cor(par$phi, segments) / par$lambda_e
+  })) / 2
+  inflated <- bayesbem:::null_residuals(g, pars, given_runs, kappa = 3, n_null = 40000)
+  expect_lt(max(abs(stats::cov(t(inflated)) - expected - 2 * emulator)) / max(diag(expected)),
+            0.05)
+})
+
+test_that("the basis emulator's inflation is its components' leave-one-run-out error", {
+  withr::local_seed(25)
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  basis <- bayesbem:::basis_emulator(d, variance = 0.99)
+  h <- cbind(1, basis$tc)
+  # each run's weight predicted from the others, the mean's coefficients held
+  z2 <- unlist(lapply(seq_along(basis$components), function(j) {
+    gp <- basis$components[[j]]
+    k <- gp$s2 * (exp(-as.matrix(stats::dist(sweep(basis$tc, 2, sqrt(gp$beta), "*")))^2) +
+                    diag(gp$nug, nrow(basis$tc)))
+    r <- basis$w[, j] - drop(h %*% gp$b)
+    vapply(seq_along(r), function(a) {
+      m <- sum(k[a, -a] * solve(k[-a, -a], r[-a]))
+      v <- k[a, a] - sum(k[a, -a] * solve(k[-a, -a], k[-a, a]))
+      (r[a] - m)^2 / v
+    }, numeric(1))
+  }))
+  g <- list(basis = basis)
+  expect_equal(bayesbem:::emulator_inflation(g, list()), max(1, mean(z2)), tolerance = 1e-6)
+})
+
 test_that("a share's interval is the jackknife over blocks of periods, not the draws' spread", {
   withr::local_seed(8)
   n <- 27
