@@ -328,3 +328,19 @@ reference_ar1_cor <- function(phi, segments) {
   }
   r
 }
+
+# Grid data of 9 hourly field rows with a gap after the fourth (two AR(1)
+# segments, `segments`), its basis emulator (99 % of the runs' variance)
+# and koh_basis.stan's data for it with AR(1) noise and the additive
+# discrepancy (6 sines on a box of 3 ranges).
+ar1_basis_case <- function(priors = koh_priors()) {
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * c(0:3, 6:10)
+  d$names$period <- "time"
+  basis <- bayesbem:::basis_emulator(d, variance = 0.99)
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))), basis = basis)
+  sd <- bayesbem:::basis_stan_data(d, priors, emulator, bayesbem:::hsgp_design(m = 6, boundary = 3),
+                                   ar1 = TRUE)
+  list(data = d, segments = rep(1:2, c(4, 5)), basis = basis, sd = sd)
+}

@@ -107,26 +107,19 @@ test_that("the null keeps the model's structure: residuals given the runs, covar
 
 test_that("with the basis emulator the null is the basis model's, at linear cost", {
   withr::local_seed(24)
-  d <- random_grid_data(n = 9, runs = 8, extra = 2)
-  # hourly rows with a gap after the fourth: two AR(1) segments
-  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * c(0:3, 6:10)
-  d$names$period <- "time"
-  segments <- rep(1:2, c(4, 5))
-  priors <- koh_priors()
-  basis <- bayesbem:::basis_emulator(d, variance = 0.99)
+  case <- ar1_basis_case()
+  d <- case$data
+  basis <- case$basis
+  segments <- case$segments
   fit <- structure(list(data = d, emulator = list(basis = basis)), class = "bayesbem_fit")
   g <- bayesbem:::explanation_geometry(fit)
-  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
-                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))), basis = basis)
-  sd <- bayesbem:::basis_stan_data(d, priors, emulator,
-                                   bayesbem:::hsgp_design(m = 6, boundary = 3), ar1 = TRUE)
   pars <- lapply(c(0.6, -0.3), function(phi) {
     list(tf = stats::runif(d$q, 0.1, 0.9), rho_delta = rep(0.5, 2), lambda_delta = 1,
          lambda_e = stats::rgamma(1, 10, 0.3), gamma = numeric(0), phi = phi)
   })
   # each draw's mean and covariance without the discrepancy, element by element
   refs <- lapply(pars, function(par) {
-    reference_basis(sd, basis, par, function(...) 0, reference_ar1_cor(par$phi, segments))
+    reference_basis(case$sd, basis, par, function(...) 0, reference_ar1_cor(par$phi, segments))
   })
   given_runs <- bayesbem:::residuals_given_runs(g, pars)
   expect_equal(given_runs$residual, t(vapply(refs, function(r) d$y - r$mean, numeric(9))),

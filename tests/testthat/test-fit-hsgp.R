@@ -55,17 +55,11 @@ test_that("stage 2 with the additive discrepancy has the log density of its dens
 test_that("stage 2 with AR(1) noise has the log density of its dense model", {
   skip_on_cran()
   withr::local_seed(24)
-  d <- random_grid_data(n = 9, runs = 8, extra = 2)
-  # hourly rows with a gap after the fourth: two segments
-  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * c(0:3, 6:10)
-  d$names$period <- "time"
-  segments <- rep(1:2, c(4, 5))
-  priors <- koh_priors()
-  basis <- bayesbem:::basis_emulator(d, variance = 0.99)
-  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
-                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))), basis = basis)
-  sd <- bayesbem:::basis_stan_data(d, priors, emulator, bayesbem:::hsgp_design(m = 6, boundary = 3),
-                                   ar1 = TRUE)
+  case <- ar1_basis_case()
+  d <- case$data
+  basis <- case$basis
+  segments <- case$segments
+  sd <- case$sd
   expect_equal(c(sd$ar, sd$n_seg), c(1, 2))
   model <- koh_model_for(sd, "koh_basis")
   kernel <- reference_hsgp_kernel(6, 3)
