@@ -34,8 +34,9 @@
 #' fraction of the remaining residual variance it explains (a partial R^2),
 #' its mean over the posterior draws. Its interval says how much the share
 #' rests on particular periods: leaving out blocks of about `n^(1/3)`
-#' consecutive periods in turn (delete-a-block jackknife; the block keeps
-#' autocorrelated neighbours together), `share -/+ z se`. The posterior
+#' consecutive periods in turn, at most 100 blocks (delete-a-block
+#' jackknife; the block keeps autocorrelated neighbours together), `share
+#' -/+ z se`. The posterior
 #' draws alone give no interval: their residuals differ only in what
 #' recalibration absorbs, which the share leaves out. A candidate
 #' that only mimics a parameter's effect gets a share near zero: the data

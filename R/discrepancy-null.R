@@ -156,23 +156,29 @@ term_scores <- function(b, free, null_free, nuisance, level, blocks) {
 # R^2 of each column of `r` (already orthogonal to `nuisance`) by the
 # columns of `b` made orthogonal to it too (free_columns()); 0 when none
 # is left.
+# The fitted part's squares are summed from Q'r (Q the orthonormal basis of
+# the free columns), one matrix product for all columns of `r` (the null's
+# thousand at a year of hours).
 partial_r_squared <- function(b, r, nuisance) {
-  free_b <- qr.resid(nuisance, cbind(b))[, free_columns(b, nuisance), drop = FALSE]
+  b <- cbind(b)
+  free_b <- qr.resid(nuisance, b)
+  free_b <- free_b[, free_columns(b, nuisance, free_b), drop = FALSE]
   if (ncol(free_b) == 0L) {
     return(rep(0, NCOL(r)))
   }
-  fitted <- qr.fitted(qr(free_b), r)
-  colSums(as.matrix(fitted)^2) / colSums(as.matrix(r)^2)
+  q <- qr(free_b)
+  explained <- crossprod(qr.Q(q)[, seq_len(q$rank), drop = FALSE], r)
+  colSums(explained^2) / colSums(as.matrix(r)^2)
 }
 
 # The columns of a term that recalibration (`nuisance`) leaves at least a
 # tenth of (in norm): a column 99 % inside what recalibration does (a
 # region's step at the simulator's switch from heating to cooling) only
 # adds a direction the data can hardly attribute, whose fit rests on a few
-# rows; dropping it leaves, e.g., a line's slope.
-free_columns <- function(b, nuisance) {
-  b <- cbind(b)
-  sqrt(colSums(qr.resid(nuisance, b)^2)) > 0.1 * sqrt(colSums(b^2))
+# rows; dropping it leaves, e.g., a line's slope. `free`: the columns'
+# residuals, when the caller has them.
+free_columns <- function(b, nuisance, free = qr.resid(nuisance, cbind(b))) {
+  sqrt(colSums(free^2)) > 0.1 * sqrt(colSums(cbind(b)^2))
 }
 
 # A term's partial R^2 of the posterior mean residual (`free`) against the
@@ -203,10 +209,12 @@ chance_z <- function(b, free, null_free, nuisance) {
 # `nuisance` of their recalibration basis and the residual's `free` part.
 # Blocks of about n^(1/3) periods (the block length of Kunsch's 1989
 # moving-block bootstrap), so that a left-out period's autocorrelated
-# neighbours go with it.
+# neighbours go with it, and at most 100 blocks (a grouped jackknife:
+# above 1,000 rows longer blocks, 88 hours at a year of hours, so that
+# the cost stays linear in the rows).
 jackknife_blocks <- function(basis, mean_residual) {
   n <- length(mean_residual)
-  size <- max(1L, round(n^(1 / 3)))
+  size <- max(1L, round(n^(1 / 3)), ceiling(n / 100))
   lapply(split(seq_len(n), ceiling(seq_len(n) / size)), function(out) {
     rows <- setdiff(seq_len(n), out)
     q <- qr(basis[rows, , drop = FALSE])
