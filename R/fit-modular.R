@@ -13,14 +13,14 @@
 # them passes R-hat, while the calibration agrees across them.
 
 # Stage 1: the emulator at the posterior mode of its hyperparameters given
-# the runs (emulator_mode()), as calibrate() stores it in `fit$emulator`:
+# the runs (highest_mode()), as calibrate() stores it in `fit$emulator`:
 # `beta_eta`, `lambda_eta`, `b`, the mode's log density `lp` and the log
 # densities each search reached (`searches`). When no search can start
 # (the density fails at every start), `on_failure(messages)` is called, as
 # for a chain that cannot start.
 fit_emulator <- function(data, priors, seed, on_failure, starts = 16L) {
   instance <- stan_instance(stanmodels$koh_emulator, emulator_stan_data(data, priors))
-  mode <- emulator_mode(instance, starts, seed)
+  mode <- highest_mode(instance, starts, seed)
   if (!is.finite(mode$lp)) {
     on_failure(sprintf("Stage 1: the emulator's log density failed at all %d starting points.",
                        starts))
@@ -45,7 +45,7 @@ stan_instance <- function(model, stan_data) {
 # unbounded at rho = 1), by BFGS from `starts` points drawn as Stan draws
 # its inits, U(-2, 2). Returns `u`, its log density `lp` (-Inf when no
 # search could start) and the log density each search reached (`searches`).
-emulator_mode <- function(instance, starts, seed) {
+highest_mode <- function(instance, starts, seed) {
   d <- rstan::get_num_upars(instance)
   inits <- with_seed(seed, matrix(stats::runif(d * starts, -2, 2), d))
   climbs <- lapply(seq_len(starts), function(k) climb_log_prob(instance, inits[, k]))
