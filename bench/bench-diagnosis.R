@@ -12,7 +12,11 @@
 #                equipment power density and cooling COP calibrated, 18
 #                months fitted, 6 held out (needs EnergyPlus);
 #   eplus_daily  the same by day, every other day of 2013, 153 fitted, 30
-#                held out.
+#                held out;
+#   eplus_hourly the same by hour, twelve weeks of 2013 from 4 March (2,016
+#                hours, every one fitted: the additive discrepancy predicts
+#                only at its field rows), AR(1) noise (phi 0.7, sd 0.5
+#                kWh), the inputs also weekday and daytype_hour.
 # Per problem: true parameters drawn in the middle 60 % of their ranges, a
 # hidden effect of one shape, noise (sd 15 kWh a month; 40 kWh a month and
 # 3 kWh a day on EnergyPlus); 30 runs (one Latin hypercube per simulator);
@@ -31,11 +35,14 @@
 #                   (hinge and line a thirtieth of these by day)
 #   weekend         EnergyPlus made with the plug loads on the weekday
 #                   schedule at weekends                 "weekend_days", "weekend"
+#                   (by hour also a region of weekend hours: "daytype_hour
+#                   > c" with c >= 24, "weekday > 5...", or a line of the
+#                   hour there)
 #   drift           EnergyPlus made with the cooling setpoint 2 C lower in
 #                   2013                                 "after_change..."
 # The candidates: the inputs, occupancy, after_change, a decoy that follows
 # temperature and, on EnergyPlus, the weekend days of each month (or whether
-# a day is one). When the right cause is named, extend() adds it and the
+# a day is one; by hour, the hour and whether it is a weekend's). When the right cause is named, extend() adds it and the
 # gain is measured: held-out CVRMSE of the predictive mean and coverage of
 # the true parameters by their 90 % intervals, before and after.
 # Usage, from the package root with bayesbem installed:
@@ -46,6 +53,7 @@
 # the extensions.
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
+`%||%` <- rlang::`%||%`
 args <- commandArgs(trailingOnly = TRUE)
 arg <- function(k, default) if (length(args) >= k) strsplit(args[k], ",")[[1]] else default
 patterns <- c(none = NA, covariate = "^occupancy$", step = "^after_change$",
@@ -54,7 +62,8 @@ patterns <- c(none = NA, covariate = "^occupancy$", step = "^after_change$",
               weekend = "^weekend", drift = "^after_change")
 kind_shapes <- list(embedded = names(patterns)[1:8], degreeday = names(patterns)[1:8],
                     eplus = c("none", "covariate", "step", "hinge", "line", "weekend", "drift"),
-                    eplus_daily = c("none", "hinge", "line", "weekend"))
+                    eplus_daily = c("none", "hinge", "line", "weekend"),
+                    eplus_hourly = c("none", "weekend"))
 sims <- arg(1, names(kind_shapes))
 shapes_asked <- arg(2, names(patterns))
 span <- as.integer(strsplit(arg(3, "1-10"), "-")[[1]])
@@ -131,11 +140,27 @@ eplus_daily_simulator <- function() {
             name = "EnergyPlus case study, every other day of 2013 (kWh)")
 }
 
+# Twelve weeks of 2013's hours from Monday 4 March.
+eplus_hours <- 24 * 62 + seq_len(24 * 84)
+eplus_hourly_simulator <- function() {
+  year <- eplus_year(2013, "hour")
+  simulator(function(params, x) year$fun(params, year$x)[eplus_hours],
+            x = year$x[eplus_hours, ], parameters = eplus_parameters,
+            periods = year$periods[eplus_hours, ],
+            name = "EnergyPlus case study, twelve weeks of 2013 by hour (kWh)")
+}
+# Stationary AR(1) noise: the recursion starts from a unit-variance draw.
+ar1_noise <- function(n, phi, sd) {
+  sd * as.numeric(stats::filter(stats::rnorm(n, sd = sqrt(1 - phi^2)), phi,
+                                method = "recursive", init = stats::rnorm(1)))
+}
+
 # Per simulator: the simulator, the calibrated parameters, the candidates
 # (covariates), the held-out rows and the noise sd.
 make_setting <- function(kind) {
   sim <- switch(kind, embedded = bem_simulator(weather), degreeday = degree_day_simulator(weather),
-                eplus = eplus_monthly_simulator(), eplus_daily = eplus_daily_simulator())
+                eplus = eplus_monthly_simulator(), eplus_daily = eplus_daily_simulator(),
+                eplus_hourly = eplus_hourly_simulator())
   n <- nrow(sim$x)
   setting <- switch(kind,
     eplus = list(calibrated = c("equipment_power_density", "dx_cooling_cop"),
@@ -151,6 +176,14 @@ make_setting <- function(kind) {
                          days <- as.Date("2013-01-01") + eplus_days - 1
                          data.frame(weekend = as.numeric(as.POSIXlt(days)$wday %in% c(0, 6)))
                        }),
+    eplus_hourly = list(calibrated = c("equipment_power_density", "dx_cooling_cop"),
+                        held_out = integer(0), noise_sd = 0, ar1 = c(phi = 0.7, sd = 0.5),
+                        change = 24 * 42 + 1,
+                        inputs = c("temp", "rh", "solar", "weekday", "daytype_hour"),
+                        patterns = list(weekend = paste0(
+                          "^weekend|^((hour|daytype_hour), where )?",
+                          "(weekday > 5|daytype_hour > (2[4-9]|3[0-9]|4[0-6]))")),
+                        calendar = function() calendar_covariates(sim)[c("hour", "weekend")]),
     list(calibrated = if (kind == "embedded") c("equipment_power_density", "infiltration_per_exterior_area")
                       else c("heat_loss", "base_load"),
          held_out = c(2, 7, 11, 16, 21, 24, 26, 31, 35, 40, 45, 48), noise_sd = 15, change = 15,
@@ -194,12 +227,23 @@ make_problem <- function(st, shape, k) {
                           noise_sd = st$noise_sd, seed = k)
   scale <- if (is.null(st$scale)) 1 else st$scale
   field$y <- field$y + effects[[shape]](field, attr(field, "simulated"), scale)
+  columns <- c("y", st$inputs %||% c("temp", "rh", "solar"))
+  noise <- "none"
+  if (!is.null(st$ar1)) {
+    field$y <- field$y + withr::with_seed(k, ar1_noise(nrow(field), st$ar1[["phi"]], st$ar1[["sd"]]))
+    field$time <- st$sim$periods$start
+    columns <- c(columns, "time")
+    noise <- "ar1"
+  }
   base <- suppressWarnings(
-    calibrate(field[-st$held_out, c("y", "temp", "rh", "solar")], st$runs, chains = 2,
-              iter = 600, seed = k, cores = 2, control = list(adapt_delta = 0.9), refresh = 0),
+    calibrate(field[training_rows(st), columns], st$runs, chains = 2, iter = 600, seed = k,
+              cores = 2, control = list(adapt_delta = 0.9), noise_correlation = noise,
+              refresh = 0),
     classes = "bayesbem_warning_convergence")
   list(truth = truth, field = field, base = base)
 }
+
+training_rows <- function(st) setdiff(seq_len(nrow(st$sim$x)), st$held_out)
 
 cached_problem <- function(st, shape, k) {
   file <- file.path(fits_dir, sprintf("diagnosis_%s_%s_%d.rds", st$kind, shape, k))
@@ -214,13 +258,17 @@ one_problem <- function(st, shape, k) {
   truth <- problem$truth
   field <- problem$field
   base <- problem$base
-  train_covariates <- st$covariates[-st$held_out, , drop = FALSE]
+  train_covariates <- st$covariates[training_rows(st), , drop = FALSE]
   ex <- explain_discrepancy(base, train_covariates, n_null = 1000, seed = k)
   named <- ex$candidate[ex$explains]
   ambiguous <- attr(ex, "ambiguous")
-  is_right <- function(name) !is.na(patterns[[shape]]) && grepl(patterns[[shape]], name)
+  pattern <- st$patterns[[shape]] %||% patterns[[shape]]
+  is_right <- function(name) !is.na(pattern) && grepl(pattern, name)
   right <- length(named) > 0 && is_right(named[1])
   scores <- function(f) {
+    if (length(st$held_out) == 0L) {
+      return(c(cvrmse = NA, covered = NA))
+    }
     pred <- predict(f, field[st$held_out, c("temp", "rh", "solar", names(st$covariates))])
     s <- summary(f)$parameters
     c(cvrmse = cvrmse(field$y[st$held_out], pred$mean),
