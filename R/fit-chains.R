@@ -131,8 +131,7 @@ mode_start <- function(model, stan_data, seed, chain) {
 # is not enough: an additive discrepancy with a short length scale in an
 # input can mimic a parameter's effect (the equipment schedule, by
 # `daytype_hour`), and BFGS's first steps often fly into such a mode, a
-# local one far below the mode near the truth (bench/RESULTS.md,
-# "Diagnosis on problems not tuned on").
+# local one far below the mode near the truth (inst/notes/design.md, F3).
 mode_starts <- 8L
 
 # The draws of each chain's stanfit, iterations x chains x variables.
