@@ -49,16 +49,17 @@ ar1_cor <- function(phi, segments) {
 
 # Observation noise N(0, w_i / lambda_e), standardised: draws (rows) by
 # periods of weights `w` (columns); with a draw's AR(1) coefficient `phi`,
-# correlated within `segments` (noise_segments() of the periods).
-noise_matrix <- function(draws, w, segments = NULL) {
-  sd_e <- 1 / sqrt(vapply(draws, `[[`, numeric(1), "lambda_e"))
+# correlated within `segments` (noise_segments() of the periods). `extra`:
+# a variance per period that shares it (as noise_cov()'s).
+noise_matrix <- function(draws, w, segments = NULL, extra = 0) {
+  lambda_e <- vapply(draws, `[[`, numeric(1), "lambda_e")
   phi <- vapply(draws, function(par) par$phi %||% 0, numeric(1))
   z <- if (all(phi == 0)) {
     matrix(stats::rnorm(length(draws) * length(w)), length(draws))
   } else {
     t(vapply(phi, ar1_series, numeric(length(w)), segments = segments))
   }
-  z * outer(sd_e, sqrt(w))
+  z * sqrt(extra + outer(1 / lambda_e, w))
 }
 
 # AR(1) noise (calibrate(noise_correlation = "ar1")): the errors of

@@ -14,7 +14,7 @@ explanation_geometry <- function(fit) {
     return(gp_geometry(data, NULL, fit_structure(fit)))
   }
   list(n = data$n, y = data$y, h = discrepancy_design(data), basis = basis,
-       noise = noise_weights(data), segments = data_segments(data) %||% rep(1L, data$n))
+       noise = noise_weights(data), segments = data_segments(data))
 }
 
 # For each draw of `pars`: the field outputs' residual from the emulator's
@@ -61,10 +61,7 @@ null_residuals <- function(g, pars, given_runs, kappa, n_null) {
                         numeric(pc)), pc)
   of <- (seq_len(n_null) - 1L) %% length(pars) + 1L
   emulator <- basis$B %*% (sd_w[, of, drop = FALSE] * stats::rnorm(pc * n_null))
-  noise <- vapply(pars[of], function(par) {
-    sqrt(kappa * basis$s2r + noise_var(g, par)) * ar1_series(par$phi %||% 0, g$segments)
-  }, numeric(g$n))
-  emulator + noise
+  emulator + t(noise_matrix(pars[of], g$noise, g$segments, kappa * basis$s2r))
 }
 
 # How much the emulator understates its own error: the mean squared
@@ -155,10 +152,9 @@ term_scores <- function(b, free, null_free, nuisance, level, blocks) {
 
 # R^2 of each column of `r` (already orthogonal to `nuisance`) by the
 # columns of `b` made orthogonal to it too (free_columns()); 0 when none
-# is left.
-# The fitted part's squares are summed from Q'r (Q the orthonormal basis of
-# the free columns), one matrix product for all columns of `r` (the null's
-# thousand at a year of hours).
+# is left. The fitted part's squares are summed from Q'r (Q the
+# orthonormal basis of the free columns), one matrix product for all
+# columns of `r` (the null's thousand at a year of hours).
 partial_r_squared <- function(b, r, nuisance) {
   b <- cbind(b)
   free_b <- qr.resid(nuisance, b)

@@ -42,9 +42,10 @@
 #                   2013                                 "after_change..."
 # The candidates: the inputs, occupancy, after_change, a decoy that follows
 # temperature and, on EnergyPlus, the weekend days of each month (or whether
-# a day is one; by hour, the hour and whether it is a weekend's). When the right cause is named, extend() adds it and the
-# gain is measured: held-out CVRMSE of the predictive mean and coverage of
-# the true parameters by their 90 % intervals, before and after.
+# a day is one; by hour, the hour and whether it is a weekend's). When the
+# right cause is named, extend() adds it and the gain is measured: held-out
+# CVRMSE of the predictive mean and coverage of the true parameters by
+# their 90 % intervals, before and after (not by hour: no held-out rows).
 # Usage, from the package root with bayesbem installed:
 #   Rscript bench/bench-diagnosis.R [simulators] [shapes] [problems]
 #   e.g. embedded,degreeday none,covariate 1-10 (the defaults: all, all, 1-10)
