@@ -41,7 +41,7 @@ hsgp_phi <- function(x, design) {
 # of exp(-b_k d^2) / (p lambda) at its frequency (Riutort-Mayol et al.
 # 2023, Eq 1, squared length scale 1 / (2 b_k)), b_k = additive_beta(beta_k),
 #   S_k(omega) = (p lambda)^-1 sqrt(pi / b_k) exp(-omega^2 / (4 b_k)),
-# as hsgp_spectral() in koh_basis.stan. Without the floor on b_k, S would
+# as hsgp_log_spectral() in koh_basis.stan (its log). Without the floor on b_k, S would
 # vanish at every frequency as the length scale grows (the approximation
 # has no constant function), and the log density would change doubly
 # exponentially in logit(rho) near 1.

@@ -10,10 +10,11 @@
 # With "hourly" (issue 55): stage 2 with the basis emulator
 # (koh_basis.stan) as the rows grow to a year of hours, the discrepancy's
 # product kernel (its n x n factor, up to `max_product` rows) beside the
-# additive Hilbert-space one (R/fit-hsgp.R): the embedded hourly model on
-# the 2013 weather (inputs temp, rh, solar, weekday, hour), the first n
-# hours, 30 runs (LHS of equipment power density, infiltration and the
-# cooling setpoint), and the set-up (the basis's SVD, the Gram matrices).
+# additive Hilbert-space one (R/fit-hsgp.R), the latter with white and with
+# AR(1) noise: the embedded hourly model on the 2013 weather (inputs temp,
+# rh, solar, weekday, daytype_hour), the first n hours, 30 runs (LHS of
+# equipment power density, infiltration and the cooling setpoint), and the
+# set-up (the basis's SVD, the Gram matrices).
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-gradient.R [n values, comma-separated] [mt]
 #   Rscript bench/bench-gradient.R hourly [n values] [max_product]
@@ -55,6 +56,7 @@ if (hourly) {
                                "cooling_setpoint"), ]
   truth <- stats::setNames(as.list((params$min + params$max) / 2), params$parameter)
   field <- simulate_field(sim, truth, noise_sd = 0.5, seed = 1)
+  field$time <- sim$periods$start
   runs <- simulate_design(sim, design_lhs(params, n = mt, seed = 2))
   hours <- nrow(sim$x)
   priors <- koh_priors()
@@ -75,7 +77,10 @@ if (hourly) {
     }
     rows[[length(rows) + 1L]] <- data.frame(
       n = n, components = ncol(basis$B), basis_functions = additive$m * d$p, setup_s = setup,
-      additive_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_basis, additive), product_ms = product)
+      additive_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_basis, additive),
+      additive_ar1_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_basis, bayesbem:::basis_stan_data(
+        d, priors, emulator, bayesbem:::hsgp_design(), ar1 = TRUE)),
+      product_ms = product)
     print(rows[[length(rows)]], digits = 3, row.names = FALSE)
   }
   out <- do.call(rbind, rows)

@@ -49,40 +49,54 @@ functions {
     return s;
   }
 
-  /* The variance of each basis function's coefficient in the additive
+  /* The log variance of each basis function's coefficient in the additive
    * Hilbert-space approximate discrepancy (R/fit-hsgp.R; Riutort-Mayol,
    * Burkner, Andersen, Solin & Vehtari 2023, Stat Comput 33, Eq 1):
    * input k's m functions, at frequencies omega, have the spectral density
    * of exp(-b d^2) / (p lambda), b = sqrt(beta[k]^2 + 0.08^2) (length
    * scales at most 2.5 input ranges, R's additive_beta()),
-   *   (p lambda)^-1 sqrt(pi / b) exp(-omega^2 / (4 b)). */
-  vector hsgp_spectral(vector omega, vector beta, real lambda) {
+   *   (p lambda)^-1 sqrt(pi / b) exp(-omega^2 / (4 b)),
+   * kept on the log scale: at the longest length scales it is below 1e-200. */
+  vector hsgp_log_spectral(vector omega, vector beta, real lambda) {
     int m = rows(omega);
     int p = rows(beta);
     vector[m * p] s;
     for (k in 1:p) {
       real b = sqrt(square(beta[k]) + square(0.08));
-      s[((k - 1) * m + 1):(k * m)] = exp(0.5 * log(pi() / b) - log(p * lambda)
-                                         - square(omega) / (4 * b));
+      s[((k - 1) * m + 1):(k * m)] = 0.5 * log(pi() / b) - log(p * lambda) - square(omega) / (4 * b);
     }
     return s;
   }
 
   /* Log density of r ~ N(0, U diag(c) U' + d R), r of n_r elements, less
-   * log|R| / 2 (the caller's), from rr = r'R^-1 r, ur = U'R^-1 r and uu =
-   * U'R^-1 U alone: with s = sqrt(c) and A = I + diag(s) U'R^-1 U diag(s) / d
-   * (Woodbury's identity and the determinant lemma; Rasmussen & Williams
-   * 2006, Eqs A.9 and A.10),
-   *   r' Sigma^-1 r = (rr - b' A^-1 b) / d, b = diag(s) ur / sqrt(d),
-   *   log|Sigma| = log|A| + n_r log(d) + log|R|.
-   * One Cholesky factor of a matrix of U's columns: no cost in the rows. */
-  real normal_lowrank(real rr, vector ur, matrix uu, vector c, real d, int n_r) {
-    int r = rows(c);
-    vector[r] s = sqrt(c);
-    matrix[r, r] L = cholesky_decompose(diag_matrix(rep_vector(1, r)) + quad_form_diag(uu, s) / d);
-    vector[r] v = mdivide_left_tri_low(L, s .* ur) / sqrt(d);
-    return -0.5 * (n_r * log(2 * pi()) + 2 * sum(log(diagonal(L))) + n_r * log(d)
-                   + (rr - dot_self(v)) / d);
+   * log|R| / 2 (the caller's), from rr = r'R^-1 r, ur = U'R^-1 r, uu_d =
+   * U'R^-1 U / d and log c alone: with M = diag(1 / c) + uu_d (Woodbury's
+   * identity and the determinant lemma; Rasmussen & Williams 2006, Eqs
+   * A.9 and A.10), M = L L',
+   *   r' Sigma^-1 r = (rr - v'v / d) / d, v = L^-1 ur,
+   *   log|Sigma| = log|M| + sum(log c) + n_r log(d) + log|R|.
+   * One Cholesky factor of a matrix of U's columns: no cost in the rows;
+   * uu_d is the only matrix of parameters (its diagonal gets 1 / c). */
+  real normal_lowrank(real rr, vector ur, matrix uu_d, vector log_c, real d, int n_r) {
+    int r = rows(log_c);
+    matrix[r, r] m = uu_d;
+    matrix[r, r] L;
+    vector[r] v;
+    for (i in 1:r) m[i, i] += exp(-log_c[i]);
+    L = cholesky_decompose(m);
+    v = mdivide_left_tri_low(L, ur);
+    return -0.5 * (n_r * log(2 * pi()) + 2 * sum(log(diagonal(L))) + sum(log_c) + n_r * log(d)
+                   + (rr - dot_self(v) / d) / d);
+  }
+
+  /* The cells of each output's U'U (U = [B_k, Phi_k]): (pc_k + m p)^2 summed. */
+  int lowrank_cells(vector pc_output, int K, int m, int p) {
+    int cells = 0;
+    for (k in 1:K) {
+      int nu = output_size(pc_output, k) + m * p;
+      cells += nu * nu;
+    }
+    return cells;
   }
 }
 data {
@@ -136,6 +150,25 @@ data {
   vector[n_u] u_offset;
   matrix[n_u, n_u] u_scale;
 }
+transformed data {
+  // with AR(1) noise, the columns vec(U_k'U_k), vec(U_k'E U_k) and
+  // vec(U_k'(S + S')U_k) of each output k in turn (rows of the output's
+  // cells, lowrank_cells()): U_k'R^-1 U_k is then one product of this data
+  // with three scalars of phi, a single node of the autodiff graph
+  int cells = ar * lowrank_cells(pc_output, K, m, p);
+  matrix[cells, 3] gram_uu;
+  {
+    int at_cell = 0;
+    for (k in 1:K * ar) {
+      int nu = output_size(pc_output, k) + m * p;
+      int at = output_start(pc_output, k) + (k - 1) * (m * p + 1 + n_h);
+      gram_uu[(at_cell + 1):(at_cell + nu * nu), 1] = to_vector(block(gram, at, at, nu, nu));
+      gram_uu[(at_cell + 1):(at_cell + nu * nu), 2] = to_vector(block(gram_end, at, at, nu, nu));
+      gram_uu[(at_cell + 1):(at_cell + nu * nu), 3] = to_vector(block(gram_lag, at, at, nu, nu));
+      at_cell += nu * nu;
+    }
+  }
+}
 parameters {
   vector[n_u] z;
 }
@@ -153,6 +186,7 @@ transformed parameters {
   vector[p * K] beta_delta = -4 * log(rho_delta);
 }
 model {
+  int at_cell = 0;  // the first row of output k's cells in gram_uu, less 1
   vector[2 * pc] wv = basis_components(tf, tc, w_coef, w_beta, w_s2, w_nug, w_alpha, w_Ki);
   // the change of variables from u (phi's prior is uniform on (-1, 1))
   target += logit_jacobian(segment(u, q + 1, p * K)) + sum(segment(u, q + p * K + 1, 2 * K))
@@ -174,24 +208,26 @@ model {
       int at = c + (k - 1) * (m * p + 1 + n_h);
       vector[nz] a = append_row(append_row(-segment(wv, c, pc_k), rep_vector(0, m * p)),
                                 append_row(rep_vector(1, 1), -gamma));
-      vector[nu] c_k = append_row(segment(wv, pc + c, pc_k),
-                                 hsgp_spectral(omega, segment(beta_delta, (k - 1) * p + 1, p),
-                                               lambda_delta[k]));
+      vector[nu] log_c = append_row(log(segment(wv, pc + c, pc_k)),
+                                    hsgp_log_spectral(omega, segment(beta_delta, (k - 1) * p + 1, p),
+                                                      lambda_delta[k]));
       real d_k = s2r[k] + noise_weight[s] / lambda_e[k];
       if (ar) {
-        // the data blocks times a first, so that only U'R^-1 U is formed with phi
+        // G a from the data blocks times a; U'R^-1 U / d from gram_uu's columns
         real f2 = square(phi[k]);
-        vector[nz] ga = ((1 + f2) * (block(gram, at, at, nz, nz) * a)
-                         - f2 * (block(gram_end, at, at, nz, nz) * a)
-                         - phi[k] * (block(gram_lag, at, at, nz, nz) * a)) / (1 - f2);
-        matrix[nu, nu] uu = ((1 + f2) * block(gram, at, at, nu, nu) - f2 * block(gram_end, at, at, nu, nu)
-                           - phi[k] * block(gram_lag, at, at, nu, nu)) / (1 - f2);
-        target += normal_lowrank(dot_product(a, ga), head(ga, nu), uu, c_k, d_k, len)
+        vector[3] weights = [1 + f2, -f2, -phi[k]]' / (1 - f2);
+        vector[nz] ga = weights[1] * (block(gram, at, at, nz, nz) * a)
+                        + weights[2] * (block(gram_end, at, at, nz, nz) * a)
+                        + weights[3] * (block(gram_lag, at, at, nz, nz) * a);
+        matrix[nu, nu] uu_d = to_matrix(block(gram_uu, at_cell + 1, 1, nu * nu, 3) * (weights / d_k),
+                                        nu, nu);
+        target += normal_lowrank(dot_product(a, ga), head(ga, nu), uu_d, log_c, d_k, len)
                   - 0.5 * (len - n_seg[k]) * log1m(f2);
+        at_cell += nu * nu;
       } else {
         vector[nz] ga = block(gram, at, at, nz, nz) * a;
-        target += normal_lowrank(dot_product(a, ga), head(ga, nu), block(gram, at, at, nu, nu), c_k, d_k,
-                                 len);
+        target += normal_lowrank(dot_product(a, ga), head(ga, nu), block(gram, at, at, nu, nu) / d_k,
+                                 log_c, d_k, len);
       }
     } else {
       target += normal_basis_lpdf(segment(y, s, len) - segment(mu_f, s, len)
