@@ -135,7 +135,7 @@ simplest_region <- function(name, candidates, basis, mean_residual, null, alpha,
   beaten <- vapply(simpler, function(alt) {
     nuisance <- qr(cbind(basis, alt$columns))
     free <- qr.resid(nuisance, mean_residual)
-    null_free <- qr.resid(nuisance, null)
+    null_free <- with_totals(qr.resid(nuisance, null))
     chances <- lapply(unique(c(name, alt$lines)), function(l) {
       chance_z(term_matrix(l, candidates), free, null_free, nuisance)
     })

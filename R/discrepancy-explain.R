@@ -162,15 +162,17 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   null <- with_seed(seed, null_residuals(g, pars, given_runs, emulator_inflation(g, pars), n_null))
   mean_residual <- colMeans(residual)
   blocks <- jackknife_blocks(basis, mean_residual)
-  free_draws <- qr.resid(nuisance, t(residual))
-  null_free <- qr.resid(nuisance, null)
-  scores <- lapply(terms, function(b) term_scores(b, free_draws, null_free, nuisance, level, blocks))
+  free_draws <- with_totals(qr.resid(nuisance, t(residual)))
+  free <- qr.resid(nuisance, mean_residual)
+  null_free <- with_totals(qr.resid(nuisance, null))
+  scores <- lapply(terms, function(b) {
+    term_scores(b, free_draws, free, null_free, nuisance, level, blocks)
+  })
   out <- data.frame(candidate = names(terms),
                     do.call(rbind, lapply(scores, `[[`, "summary")), row.names = NULL)
   # a line is tested and cross-validated as itself and as its slope alone
   # (a slope through zero, one column), each a term of the family
   lines <- which(vapply(names(terms), is_line, logical(1)))
-  free <- qr.resid(nuisance, mean_residual)
   slopes <- lapply(terms[lines], function(b) {
     chance <- chance_z(b[, 2], free, null_free, nuisance)
     list(summary = data.frame(z = chance$z), null_z = chance$null_z)
@@ -194,7 +196,7 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
     if (label == out$candidate[i]) next
     terms[[i]] <- if (label %in% names(main)) main[[label]] else term_matrix(label, candidates)
     names(terms)[i] <- out$candidate[i] <- label
-    scores[[i]] <- term_scores(terms[[i]], free_draws, null_free, nuisance, level, blocks)
+    scores[[i]] <- term_scores(terms[[i]], free_draws, free, null_free, nuisance, level, blocks)
     out[i, c("share", "lower", "upper")] <- scores[[i]]$summary[c("share", "lower", "upper")]
     out$cv_gain[i] <- cv_gain(mean_residual, basis, terms[[i]], baseline, is_line(label), nuisance)
     out$explains[i] <- out$cv_gain[i] > 0

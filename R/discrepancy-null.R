@@ -138,9 +138,9 @@ recalibration_basis <- function(eta, tf) {
 # `blocks` of periods (jackknife_blocks()); and the term's standing against
 # chance (chance_z(), on the null residuals `null_free`, orthogonal to
 # `nuisance` too). The caller projects both once for all terms.
-term_scores <- function(b, free, null_free, nuisance, level, blocks) {
+term_scores <- function(b, free, mean_free, null_free, nuisance, level, blocks) {
   shares <- partial_r_squared(b, free, nuisance)
-  chance <- chance_z(b, rowMeans(free), null_free, nuisance)
+  chance <- chance_z(b, mean_free, null_free, nuisance)
   left_out <- vapply(blocks, function(k) {
     partial_r_squared(b[k$rows, , drop = FALSE], k$free, k$nuisance)
   }, numeric(1))
@@ -154,7 +154,8 @@ term_scores <- function(b, free, null_free, nuisance, level, blocks) {
 # columns of `b` made orthogonal to it too (free_columns()); 0 when none
 # is left. The fitted part's squares are summed from Q'r (Q the
 # orthonormal basis of the free columns), one matrix product for all
-# columns of `r` (the null's thousand at a year of hours).
+# columns of `r` (the null's thousand at a year of hours); their total
+# sums of squares are with_totals()'s when `r` has them.
 partial_r_squared <- function(b, r, nuisance) {
   b <- cbind(b)
   free_b <- qr.resid(nuisance, b)
@@ -164,8 +165,14 @@ partial_r_squared <- function(b, r, nuisance) {
   }
   q <- qr(free_b)
   explained <- crossprod(qr.Q(q)[, seq_len(q$rank), drop = FALSE], r)
-  colSums(explained^2) / colSums(as.matrix(r)^2)
+  colSums(explained^2) / (attr(r, "total") %||% colSums(as.matrix(r)^2))
 }
+
+# Residuals (columns) that many terms are scored on, with each column's
+# sum of squares kept, not recomputed per term (at a year of hours a
+# thousand columns of 8,760 rows: the square of that matrix cost more than
+# the term's fit).
+with_totals <- function(r) structure(r, total = colSums(r^2))
 
 # The columns of a term that recalibration (`nuisance`) leaves at least a
 # tenth of (in norm): a column 99 % inside what recalibration does (a

@@ -175,7 +175,8 @@ test_that("a share's interval is the jackknife over blocks of periods, not the d
   partial <- 1 - sum(stats::residuals(full)^2) / sum(stats::residuals(reduced)^2)
   residual <- matrix(r, 1)
   q <- qr(basis)
-  s <- bayesbem:::term_scores(b, qr.resid(q, t(residual)), qr.resid(q, matrix(stats::rnorm(n * 5), n)),
+  free <- qr.resid(q, t(residual))
+  s <- bayesbem:::term_scores(b, free, drop(free), qr.resid(q, matrix(stats::rnorm(n * 5), n)),
                               q, 0.9, blocks)
   left_out <- vapply(blocks, function(k) {
     rss <- function(fit) sum(stats::residuals(fit)^2)
@@ -192,6 +193,21 @@ test_that("a share's interval is the jackknife over blocks of periods, not the d
   expect_true(all(ex$upper - ex$lower > 0.02))
   expect_true(all(ex$lower <= ex$share & ex$share <= ex$upper))
   expect_match(attr(ex, "verdict"), "interval over left-out periods|No candidate")
+})
+
+test_that("partial R^2 of many residuals is lm()'s, with or without their kept totals", {
+  withr::local_seed(5)
+  n <- 60
+  nuisance <- qr(cbind(1, stats::rnorm(n)))
+  r <- qr.resid(nuisance, matrix(stats::rnorm(n * 3), n))
+  b <- cbind(stats::rnorm(n), stats::runif(n))
+  x <- qr.X(nuisance)
+  by_lm <- apply(r, 2, function(y) {
+    rss <- function(fit) sum(stats::residuals(fit)^2)
+    1 - rss(stats::lm(y ~ x + b - 1)) / rss(stats::lm(y ~ x - 1))
+  })
+  expect_equal(bayesbem:::partial_r_squared(b, r, nuisance), by_lm)
+  expect_equal(bayesbem:::partial_r_squared(b, bayesbem:::with_totals(r), nuisance), by_lm)
 })
 
 test_that("recalibration removes the output's curvature in the parameters", {
@@ -314,7 +330,7 @@ test_that("on simulated nulls each family of terms holds its share of alpha", {
     blocks <- bayesbem:::jackknife_blocks(matrix(1, n), drop(r))
     free <- qr.resid(nuisance, t(r))
     scores <- lapply(c(main, regions), function(b) {
-      bayesbem:::term_scores(b, free, null_free, nuisance, 0.9, blocks)
+      bayesbem:::term_scores(b, free, drop(free), null_free, nuisance, 0.9, blocks)
     })
     p <- bayesbem:::adjusted_p_values(scores, family, bayesbem:::region_weights)
     c(main = any(p[family == "main"] < 0.05), region = any(p[family == "region"] < 0.05))
