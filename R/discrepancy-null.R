@@ -136,8 +136,9 @@ recalibration_basis <- function(eta, tf) {
 # columns of `free`, the draws' residuals made orthogonal to `nuisance`),
 # summarised by their mean, with the interval of share_interval() over the
 # `blocks` of periods (jackknife_blocks()); and the term's standing against
-# chance (chance_z(), on the null residuals `null_free`, orthogonal to
-# `nuisance` too). The caller projects both once for all terms.
+# chance (chance_z() of `mean_free`, the posterior mean residual's part
+# orthogonal to `nuisance`, against the null residuals `null_free`,
+# orthogonal to it too). The caller projects all three once for all terms.
 term_scores <- function(b, free, mean_free, null_free, nuisance, level, blocks) {
   shares <- partial_r_squared(b, free, nuisance)
   chance <- chance_z(b, mean_free, null_free, nuisance)

@@ -89,6 +89,13 @@ functions {
                    + (rr - dot_self(v) / d) / d);
   }
 
+  /* Where output k's block of the Gram matrices starts (row and column):
+   * its first component, after the m p + 1 + n_h other columns of each
+   * earlier output (R's hsgp_stan_data()). */
+  int gram_start(vector pc_output, int k, int m, int p, int n_h) {
+    return output_start(pc_output, k) + (k - 1) * (m * p + 1 + n_h);
+  }
+
   /* The cells of each output's U'U (U = [B_k, Phi_k]): (pc_k + m p)^2 summed. */
   int lowrank_cells(vector pc_output, int K, int m, int p) {
     int cells = 0;
@@ -161,7 +168,7 @@ transformed data {
     int at_cell = 0;
     for (k in 1:K * ar) {
       int nu = output_size(pc_output, k) + m * p;
-      int at = output_start(pc_output, k) + (k - 1) * (m * p + 1 + n_h);
+      int at = gram_start(pc_output, k, m, p, n_h);
       gram_uu[(at_cell + 1):(at_cell + nu * nu), 1] = to_vector(block(gram, at, at, nu, nu));
       gram_uu[(at_cell + 1):(at_cell + nu * nu), 2] = to_vector(block(gram_end, at, at, nu, nu));
       gram_uu[(at_cell + 1):(at_cell + nu * nu), 3] = to_vector(block(gram_lag, at, at, nu, nu));
@@ -205,7 +212,7 @@ model {
       // within segments) and log|R| = (rows - segments) log(1 - phi^2)
       int nu = pc_k + m * p;
       int nz = nu + 1 + n_h;
-      int at = c + (k - 1) * (m * p + 1 + n_h);
+      int at = gram_start(pc_output, k, m, p, n_h);
       vector[nz] a = append_row(append_row(-segment(wv, c, pc_k), rep_vector(0, m * p)),
                                 append_row(rep_vector(1, 1), -gamma));
       vector[nu] log_c = append_row(log(segment(wv, pc + c, pc_k)),
