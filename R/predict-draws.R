@@ -100,7 +100,7 @@ scale_covariates <- function(data, newdata, call = rlang::caller_env()) {
   missing <- setdiff(needed, names(newdata))
   if (length(missing) > 0L) {
     abort_bayesbem(c("{.arg newdata} has no column{?s} {.field {missing}}.",
-                     i = "This fit has discrepancy terms in {.field {needed}}: give their values too."),
+                     i = "This fit has discrepancy terms in {.field {needed}}: give their values or the columns they are made of (to {.fn predict_scenario}, {.fn savings} and {.fn avoided_energy}: in {.arg covariates})."),
                    "columns", call = call)
   }
   check_numeric_complete(newdata, needed, "newdata", call = call)

@@ -31,6 +31,7 @@
 #' @template args-ndraws-runs
 #' @param discrepancy What the retrofit does to the discrepancy (see
 #'   Details).
+#' @template args-covariates-scenario
 #' @template args-cache-dir
 #' @template args-total
 #' @param ... Unused.
@@ -54,26 +55,28 @@
 #' plot_savings(s)
 #' }
 savings <- function(fit, baseline, retrofit, ndraws = 40,
-                    discrepancy = c("same", "proportional", "none"), cache_dir = NULL,
-                    total = NULL, ...) {
+                    discrepancy = c("same", "proportional", "none"), covariates = NULL,
+                    cache_dir = NULL, total = NULL, ...) {
   rlang::check_dots_empty()
   baseline <- as_scenario(baseline)
   retrofit <- as_scenario(retrofit)
   discrepancy <- match_choice(discrepancy)
   check_same_periods(baseline, retrofit)
   if (is_several(fit)) {
-    return(savings_outputs(fit, baseline, retrofit, ndraws, discrepancy, cache_dir, total))
+    return(savings_outputs(fit, baseline, retrofit, ndraws, discrepancy, covariates, cache_dir,
+                           total))
   }
   check_fit(fit)
   if (!is.null(total)) {
     abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
                    "argument")
   }
+  inputs <- scenario_inputs(fit, baseline, covariates)
   runs <- scenario_runs(fit, list(baseline, retrofit), ndraws, cache_dir)
   base <- runs$simulated[[1]]
   new <- runs$simulated[[2]]
   if (discrepancy != "none") {
-    delta <- scenario_delta(fit, baseline$simulator$x, base, runs$draws)
+    delta <- scenario_delta(fit, inputs, base, runs$draws)
     new <- new + if (discrepancy == "same") delta else delta * (new / base)
     base <- base + delta
   }
@@ -87,11 +90,12 @@ savings <- function(fit, baseline, retrofit, ndraws = 40,
 # savings() of a fit on several outputs: each output's from the same runs
 # (shared_runs(), one run per draw and scenario for every output), and the
 # weighted total of their savings draw by draw.
-savings_outputs <- function(fit, baseline, retrofit, ndraws, discrepancy, cache_dir, total,
-                            call = rlang::caller_env()) {
+savings_outputs <- function(fit, baseline, retrofit, ndraws, discrepancy, covariates, cache_dir,
+                            total, call = rlang::caller_env()) {
+  check_output_covariates(covariates, names(fit$outputs), call)
   per <- each_output_runs(fit, list(baseline, retrofit), function(k, fit, baseline, retrofit) {
     savings(fit, baseline, retrofit, ndraws = ndraws, discrepancy = discrepancy,
-            cache_dir = cache_dir)
+            covariates = covariates[[k]], cache_dir = cache_dir)
   }, call = call)
   saved <- if (!is.null(total)) {
     check_total_weights(total, lapply(per, `[[`, "inputs"), call = call)
@@ -208,6 +212,7 @@ check_same_periods <- function(baseline, retrofit, call = rlang::caller_env()) {
 #'   in [predict_scenario()].
 #' @template args-ndraws-runs
 #' @template args-level
+#' @template args-covariates-scenario
 #' @template args-cache-dir
 #' @template args-total
 #' @param ... Unused.
@@ -228,16 +233,16 @@ check_same_periods <- function(baseline, retrofit, call = rlang::caller_env()) {
 #' avoided_energy(seb_fit, sim, after, ndraws = 10)
 #' }
 avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
-                           discrepancy = c("same", "proportional", "none"), cache_dir = NULL,
-                           total = NULL, ...) {
+                           discrepancy = c("same", "proportional", "none"), covariates = NULL,
+                           cache_dir = NULL, total = NULL, ...) {
   rlang::check_dots_empty()
   check_fit(fit)
   reporting <- as_scenario(reporting)
   check_probability(level)
   discrepancy <- match_choice(discrepancy)
   if (is_several(fit)) {
-    return(avoided_energy_outputs(fit, reporting, obs, ndraws, level, discrepancy, cache_dir,
-                                  total))
+    return(avoided_energy_outputs(fit, reporting, obs, ndraws, level, discrepancy, covariates,
+                                  cache_dir, total))
   }
   if (!is.null(total)) {
     abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
@@ -247,7 +252,7 @@ avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
   obs <- obs[keep]
   m <- length(keep)
   prediction <- predict_scenario(fit, reporting, ndraws = ndraws, discrepancy = discrepancy,
-                                 cache_dir = cache_dir)
+                                 covariates = covariates, cache_dir = cache_dir)
   adjusted <- prediction$y[, keep, drop = FALSE]
   avoided <- adjusted - rep(obs, each = nrow(adjusted))
   both <- with_total(avoided)
@@ -272,8 +277,8 @@ avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
 # runs, `obs` a list by output, and the weighted total of the outputs'
 # totals draw by draw (their measured periods may differ, so only the
 # totals add up).
-avoided_energy_outputs <- function(fit, reporting, obs, ndraws, level, discrepancy, cache_dir,
-                                   total, call = rlang::caller_env()) {
+avoided_energy_outputs <- function(fit, reporting, obs, ndraws, level, discrepancy, covariates,
+                                   cache_dir, total, call = rlang::caller_env()) {
   outputs <- names(fit$outputs)
   if (!is.list(obs) || is.null(names(obs)) || !setequal(names(obs), outputs)) {
     abort_bayesbem(c("On several outputs, {.arg obs} must be a list of measured uses named by output.",
@@ -281,9 +286,10 @@ avoided_energy_outputs <- function(fit, reporting, obs, ndraws, level, discrepan
                      i = "The outputs are {.val {outputs}}; e.g. {.code list({outputs[1]} = ..., {outputs[2]} = ...)}."),
                    "argument", call = call)
   }
+  check_output_covariates(covariates, outputs, call)
   per <- each_output_runs(fit, list(reporting), function(k, fit, reporting) {
     avoided_energy(fit, reporting, obs[[k]], ndraws = ndraws, level = level,
-                   discrepancy = discrepancy, cache_dir = cache_dir)
+                   discrepancy = discrepancy, covariates = covariates[[k]], cache_dir = cache_dir)
   }, call = call)
   avoided <- if (!is.null(total)) {
     check_total_weights(total, lapply(per, function(p) p$scenario$simulator$x), call = call)

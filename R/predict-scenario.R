@@ -31,8 +31,7 @@
 #'   `"none"` leaves it out (the simulator alone). The same choice as
 #'   [savings()]'s and [avoided_energy()]'s.
 #' @param noise Add observation noise.
-#' @param covariates For a fit with discrepancy terms ([extend()]): their
-#'   values at the scenario's periods, a data frame with one row per period.
+#' @template args-covariates-scenario
 #' @template args-cache-dir
 #' @template args-total
 #' @param ... Unused.

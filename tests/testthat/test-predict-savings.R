@@ -105,3 +105,29 @@ test_that("Guideline 14's savings uncertainty follows its Annex B formula", {
   n_eff <- if (rho > 0) 12 * (1 - rho) / (1 + rho) else 12
   expect_equal(fsu, qt(0.95, 11) * 1.26 * cv * sqrt(12 / n_eff * (1 + 2 / n_eff) / 12) / 0.2)
 })
+
+test_that("savings and avoided energy of an extended fit take its covariates", {
+  skip_on_cran()
+  sim <- linear_seb_simulator()
+  working <- data.frame(working_days = c(21, 20, 21, 22, 23, 20, 23, 22, 21, 23, 20, 21))
+  ext <- suppressWarnings(extend(seb_fit, with = "working_days", covariates = working, chains = 2,
+                                 iter = 400, refresh = 0),
+                          classes = "bayesbem_warning_convergence")
+  retrofit <- scenario(sim, scale = c(equipment_power_density = 0.8))
+  expect_error(savings(ext, sim, retrofit, ndraws = 4), class = "bayesbem_error_columns")
+  one_more <- data.frame(working_days = working$working_days + 1)
+  s <- withr::with_seed(3, savings(ext, sim, retrofit, ndraws = 8, covariates = working))
+  s1 <- withr::with_seed(3, savings(ext, sim, retrofit, ndraws = 8, covariates = one_more))
+  gamma <- posterior::as_draws_df(ext)$`gamma[working_days]`[s$draw]
+  # a working day more adds its coefficient to every month's use, draw by
+  # draw, under both scenarios: the savings do not change
+  expect_equal(unname(s1$baseline - s$baseline), matrix(gamma, 8, 12), tolerance = 1e-6)
+  expect_equal(s1$savings, s$savings, tolerance = 1e-8)
+  after <- 0.9 * seb_field$y
+  a <- withr::with_seed(4, avoided_energy(ext, sim, after, ndraws = 8, covariates = working))
+  a1 <- withr::with_seed(4, avoided_energy(ext, sim, after, ndraws = 8, covariates = one_more))
+  gamma <- posterior::as_draws_df(ext)$`gamma[working_days]`[a$draw]
+  expect_equal(unname(a1$draws - a$draws), matrix(gamma, 8, 12), tolerance = 1e-6)
+  expect_error(avoided_energy(ext, sim, after, ndraws = 4, covariates = working[1:6, , drop = FALSE]),
+               class = "bayesbem_error_covariates")
+})
