@@ -121,7 +121,10 @@
 #'   data's `period` column, e.g. [field_hours()]'s `time`). Predictions
 #'   with noise, scenarios and savings then draw AR(1) noise over their
 #'   periods, so that a total over many hours carries the correlation.
-#'   `"auto"` (the default) is `"none"`.
+#'   `"auto"` (the default) is `"ar1"` where it applies, the additive
+#'   discrepancy over rows with times of which some follow one another
+#'   (meter data by the hour or day; AR(1) holds white noise at `phi = 0`),
+#'   and `"none"` elsewhere (bills: the paper's).
 #' @param minor_modes What to do with chains stuck in a minor mode of the
 #'   posterior: `"drop"` (the default) deals with them as below, with a
 #'   message; `"keep"` keeps every chain as it ran. Each chain's mode gets a
@@ -510,11 +513,23 @@ choose_discrepancy_kernel <- function(kernel, emulator, data, call = rlang::call
 
 additive_rows <- 400L
 
-# noise_correlation = "auto": "none" (white noise, the paper's). "ar1"
-# needs the additive discrepancy (its likelihood reads the rows through
-# Gram matrices, which the AR(1) precision keeps tridiagonal) and the field
-# rows' times (field_segments()).
+# noise_correlation = "auto": "ar1" where it applies, the additive
+# discrepancy over rows with times of which some follow one another (meter
+# data: their residuals persist); AR(1) holds white noise at phi = 0, its
+# cost and the months' intervals with either noise: bench/RESULTS.md, "A
+# year of hours". Elsewhere "none" (the paper's). "ar1" needs the additive
+# discrepancy (its likelihood reads the rows through Gram matrices, which
+# the AR(1) precision keeps tridiagonal) and the field rows' times
+# (field_segments()).
 choose_noise_correlation <- function(correlation, kernel, data, call = rlang::caller_env()) {
+  if (correlation == "auto") {
+    consecutive <- function(d) {
+      segments <- data_segments(d)
+      !is.null(segments) && anyDuplicated(segments) > 0L
+    }
+    ar1 <- kernel == "additive" && all(vapply(output_data(data), consecutive, logical(1)))
+    return(if (ar1) "ar1" else "none")
+  }
   if (correlation != "ar1") {
     return("none")
   }

@@ -3,18 +3,21 @@
 # weather (inputs temp, rh, solar, weekday, daytype_hour), three
 # parameters (equipment power density, infiltration, cooling setpoint) at
 # the middle of their ranges, the simulator's use there plus AR(1) noise
-# (phi 0.7, sd 0.5 kWh), the first `hours` hours with their times; `runs` LHS runs;
+# (phi 0.7, sd 0.5 kWh; or white, sd 0.5), the first `hours` hours with
+# their times; `runs` LHS runs;
 # calibrate()'s defaults (the additive discrepancy at this size) with
 # `chains` chains on every core, white or AR(1) noise. Reported per fit:
 # wall time (the data; the fit, both stages), max R-hat, divergent
 # transitions, mean leapfrog steps per draw, draws at the maximum tree
-# depth, min bulk ESS, the truth inside the 90 % intervals, and the
-# posterior mean of phi. With "daily": the embedded model by day on 2012,
+# depth, min bulk ESS, the truth inside the 90 % intervals, the posterior
+# mean of phi, and the months whose measured total lies inside the 90 %
+# predictive interval of its total (200 draws with noise). With "daily": the embedded model by day on 2012,
 # 2013 and 2012 again (a third year of the same weather, `year` an
 # input), 1,097 days.
 # Usage, from the package root, with bayesbem installed:
-#   Rscript bench/bench-year-hours.R [hours] [runs, comma-separated] [chains] [none|ar1]
-#   Rscript bench/bench-year-hours.R daily [runs] [chains] [none|ar1]
+#   Rscript bench/bench-year-hours.R [hours] [runs, comma-separated] [chains] [none|ar1|auto] [ar1|white]
+#   Rscript bench/bench-year-hours.R daily [runs] [chains] [none|ar1|auto] [ar1|white]
+# (the 4th argument is the fit's noise, the 5th the truth's).
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
@@ -24,6 +27,7 @@ hours <- if (daily) NA else as.integer(arg(1, "8760"))
 runs_list <- as.integer(strsplit(arg(2, "30"), ",")[[1]])
 chains <- as.integer(arg(3, "4"))
 correlation <- arg(4, "ar1")
+truth_noise <- arg(5, "ar1")
 
 weather <- function(year) system.file("extdata", sprintf("%d_AMY.epw.gz", year), package = "bayesbem")
 params <- c("equipment_power_density", "infiltration_per_exterior_area", "cooling_setpoint")
@@ -56,7 +60,8 @@ ranges <- problem$parameters[problem$parameters$parameter %in% params, ]
 truth <- stats::setNames(as.list((ranges$min + ranges$max) / 2), ranges$parameter)
 set.seed(55)
 use <- problem$simulate(as.data.frame(truth))$eta
-noise <- 0.5 * as.numeric(stats::filter(stats::rnorm(length(use), sd = sqrt(1 - 0.7^2)), 0.7,
+phi_true <- if (truth_noise == "ar1") 0.7 else 0
+noise <- 0.5 * as.numeric(stats::filter(stats::rnorm(length(use), sd = sqrt(1 - phi_true^2)), phi_true,
                                          method = "recursive", init = stats::rnorm(1)))
 field <- data.frame(y = use + noise, problem$x, time = problem$times, row.names = NULL)
 
@@ -74,7 +79,14 @@ rows <- lapply(runs_list, function(mt) {
     truth[[v]] >= q[1] && truth[[v]] <= q[2]
   }, logical(1))
   sampler <- do.call(rbind, bayesbem:::sampler_params(fit))
-  data.frame(rows = d$n, runs = mt, noise = correlation, chains = chains,
+  predicted <- predict(fit, noise = TRUE, ndraws = 200, summary = FALSE)
+  month <- format(field$time, "%Y-%m")
+  months_covered <- vapply(split(seq_along(month), month), function(i) {
+    q <- stats::quantile(rowSums(predicted[, i, drop = FALSE]), c(0.05, 0.95))
+    sum(field$y[i]) >= q[1] && sum(field$y[i]) <= q[2]
+  }, logical(1))
+  data.frame(rows = d$n, runs = mt, truth_noise = truth_noise, noise = fit$settings$noise_correlation,
+             chains = chains,
              data_s = as.numeric(difftime(t1, t0, units = "secs")),
              fit_s = as.numeric(difftime(t2, t1, units = "secs")),
              max_rhat = max(conv$rhat, na.rm = TRUE), divergent = sum(sampler[, "divergent__"]),
@@ -82,7 +94,8 @@ rows <- lapply(runs_list, function(mt) {
              treedepth_hits = bayesbem:::fit_sampler_diagnostics(fit)$treedepth_hits,
              min_bulk_ess = min(conv$ess_bulk, na.rm = TRUE),
              covered = sprintf("%d/%d", sum(covered), length(covered)),
-             phi = if (correlation == "ar1") mean(draws$phi) else NA)
+             phi = if (identical(fit$settings$noise_correlation, "ar1")) mean(draws$phi) else NA,
+             months_covered = sprintf("%d/%d", sum(months_covered), length(months_covered)))
 })
 out <- do.call(rbind, rows)
 print(out, digits = 3, row.names = FALSE)

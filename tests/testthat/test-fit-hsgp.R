@@ -108,4 +108,11 @@ test_that("AR(1) noise needs the additive discrepancy and the rows' times", {
   d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * 0:8
   d$names$period <- "time"
   expect_identical(choose("ar1", "additive", d), "ar1")
+  # "auto": AR(1) where it applies, on consecutive hours with the additive
+  # discrepancy; not with the exact one, nor on rows none of which follow
+  # another
+  expect_identical(choose("auto", "additive", d), "ar1")
+  expect_identical(choose("auto", "product", d), "none")
+  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * c(0, 2, 5, 9, 14, 20, 27, 35, 44)
+  expect_identical(choose("auto", "additive", d), "none")
 })
