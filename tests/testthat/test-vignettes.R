@@ -48,3 +48,9 @@ test_that("the meter-data vignette renders bills on their own dates, hours of a 
                                      "48 field rows", "starts before the period above it",
                                      "8760 field rows", "additive discrepancy, AR(1) noise"))
 })
+
+test_that("the smart-meter vignette renders its diagnosis, the mechanism's fit and the savings", {
+  skip_on_cran()
+  expect_rendered("smart-meter-fault", 0, c("best explained by", "weekend_plug_loads",
+                                            "with_weekend_loads", "true_saving"))
+})
