@@ -80,9 +80,9 @@ predict_scenario <- function(fit, scenario, ndraws = 40,
   if (discrepancy == "proportional" && changed) {
     scenarios$calibrated <- as_scenario(scenario$simulator)
   }
+  inputs <- scenario_inputs(fit, scenario, covariates)
   runs <- scenario_runs(fit, scenarios, ndraws, cache_dir)
   simulated <- runs$simulated[[1]]
-  inputs <- scenario_inputs(fit, scenario, covariates)
   delta <- if (discrepancy == "none") {
     0 * simulated
   } else {
