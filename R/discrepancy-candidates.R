@@ -117,8 +117,11 @@ refine_region <- function(name, candidates, free, nuisance) {
 # candidate's line in that region, against the step; every line of `a`,
 # among `labels`, against `a`), at `alpha`. Of the simpler terms the line
 # does not beat, the one that explains most is named. Other terms are
-# returned as they are.
-simplest_region <- function(name, candidates, basis, mean_residual, null, alpha, main, labels) {
+# returned as they are. `null_free`: the null residuals beyond
+# recalibration, with_totals(); `memo`: an environment that keeps the
+# lines' scores for the next call (chances_given()).
+simplest_region <- function(name, candidates, basis, mean_residual, null_free, alpha, main,
+                            labels, memo = new.env()) {
   if (!is_line(name)) {
     return(name)
   }
@@ -133,12 +136,8 @@ simplest_region <- function(name, candidates, basis, mean_residual, null, alpha,
                               parts$cut)),
     list(label = parts$effect, columns = main[[parts$effect]], lines = of_effect))
   beaten <- vapply(simpler, function(alt) {
-    nuisance <- qr(cbind(basis, alt$columns))
-    free <- qr.resid(nuisance, mean_residual)
-    null_free <- with_totals(qr.resid(nuisance, null))
-    chances <- lapply(unique(c(name, alt$lines)), function(l) {
-      chance_z(term_matrix(l, candidates), free, null_free, nuisance)
-    })
+    chances <- chances_given(alt, unique(c(name, alt$lines)), candidates, basis, mean_residual,
+                             null_free, memo)
     null_max <- do.call(pmax, lapply(chances, `[[`, "null_z"))
     (1 + sum(null_max >= chances[[1]]$z)) / (length(null_max) + 1) < alpha
   }, logical(1))
@@ -151,4 +150,29 @@ simplest_region <- function(name, candidates, basis, mean_residual, null, alpha,
   explained <- vapply(kept, function(alt) partial_r_squared(alt$columns, free, nuisance), numeric(1))
   best <- kept[[which.max(explained)]]$label
   if (best == step) refine_region(step, candidates, free, nuisance) else best
+}
+
+# chance_z() of each of the region-specific `lines` given recalibration
+# (`basis`) and the simpler term `alt` (its `label` and `columns`), as a
+# list, kept in the environment `memo` for later calls: every line of a
+# candidate is scored against that candidate for each region named in it.
+# `null_free`: the null residuals beyond recalibration, with_totals(). They
+# are not projected again: a line's columns are made orthogonal to `alt`
+# too (partial_r_squared()), so its products with them are the same, and
+# only each residual's total sum of squares loses its part along `alt`:
+# one product with the null residuals instead of a projection of each.
+chances_given <- function(alt, lines, candidates, basis, mean_residual, null_free, memo) {
+  keys <- paste(alt$label, lines, sep = "\r")
+  missing <- which(!vapply(keys, exists, logical(1), envir = memo, inherits = FALSE))
+  if (length(missing) > 0L) {
+    nuisance <- qr(cbind(basis, alt$columns))
+    free <- qr.resid(nuisance, mean_residual)
+    along <- crossprod(qr.Q(nuisance)[, seq_len(nuisance$rank), drop = FALSE], null_free)
+    null_alt <- structure(null_free, total = attr(null_free, "total") - colSums(along^2))
+    for (k in missing) {
+      assign(keys[k], chance_z(term_matrix(lines[k], candidates), free, null_alt, nuisance),
+             envir = memo)
+    }
+  }
+  unname(mget(keys, envir = memo))
 }

@@ -190,9 +190,11 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   # beats no simpler term beyond chance is named as that term; the test
   # stands (p_value and z are the grid term's), the rest is the named term's
   region_labels <- names(terms)[family == "region"]
+  memo <- new.env()
   for (i in which(out$explains & family == "region")) {
     label <- simplest_region(refine_region(out$candidate[i], candidates, free, nuisance),
-                             candidates, basis, mean_residual, null, alpha, main, region_labels)
+                             candidates, basis, mean_residual, null_free, alpha, main,
+                             region_labels, memo)
     if (label == out$candidate[i]) next
     terms[[i]] <- if (label %in% names(main)) main[[label]] else term_matrix(label, candidates)
     names(terms)[i] <- out$candidate[i] <- label
@@ -247,10 +249,13 @@ explanation_verdict <- function(x, level, ambiguous = character(0)) {
     return(sprintf("The discrepancy is explained beyond chance, but ambiguously between %s: each explains about %.0f%% of the simulator residual, and together hardly more. The data cannot tell them apart; a measurement or knowledge of the building can.",
                    and_list(c(top$candidate, ambiguous)), 100 * top$share))
   }
-  # a candidate named in several regions is named once
-  base <- unique(sub(", where .*$", "", cause$candidate))
-  others <- if (length(base) > 1L) {
-    sprintf(" (also beyond chance: %s)", paste(base[-1], collapse = ", "))
+  # a candidate named in several regions is named once, and at most five
+  # others (at a year of hours dozens of terms can be beyond chance)
+  others <- unique(sub(", where .*$", "", cause$candidate))[-1]
+  others <- if (length(others) > 0L) {
+    more <- if (length(others) > 5L) sprintf(" and %d more in the table", length(others) - 5L)
+    sprintf(" (also beyond chance: %s%s)", paste(utils::head(others, 5L), collapse = ", "),
+            more %||% "")
   } else {
     ""
   }

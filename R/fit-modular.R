@@ -20,7 +20,7 @@
 # for a chain that cannot start.
 fit_emulator <- function(data, priors, seed, on_failure, starts = 16L) {
   instance <- stan_instance(stanmodels$koh_emulator, emulator_stan_data(data, priors))
-  mode <- highest_mode(instance, starts, seed)
+  mode <- highest_mode(instance, random_starts(instance, starts, seed))
   if (!is.finite(mode$lp)) {
     on_failure(sprintf("Stage 1: the emulator's log density failed at all %d starting points.",
                        starts))
@@ -42,16 +42,21 @@ stan_instance <- function(model, stan_data) {
 # The highest mode of a model instance's log density on Stan's unconstrained
 # scale, Jacobian included (where the Beta priors on rho keep every mode
 # inside (0, 1); on the constrained scale the Beta(1, 0.3) density is
-# unbounded at rho = 1), by BFGS from `starts` points drawn as Stan draws
-# its inits, U(-2, 2). Returns `u`, its log density `lp` (-Inf when no
-# search could start) and the log density each search reached (`searches`).
-highest_mode <- function(instance, starts, seed) {
-  d <- rstan::get_num_upars(instance)
-  inits <- with_seed(seed, matrix(stats::runif(d * starts, -2, 2), d))
-  climbs <- lapply(seq_len(starts), function(k) climb_log_prob(instance, inits[, k]))
+# unbounded at rho = 1), by BFGS from each column of `inits`. Returns `u`,
+# its log density `lp` (-Inf when no search could start) and the log
+# density each search reached (`searches`).
+highest_mode <- function(instance, inits) {
+  climbs <- lapply(seq_len(ncol(inits)), function(k) climb_log_prob(instance, inits[, k]))
   lp <- vapply(climbs, `[[`, numeric(1), "lp")
   best <- which.max(lp)
   list(u = climbs[[best]]$u, lp = lp[best], searches = lp)
+}
+
+# `starts` points on a model instance's unconstrained scale drawn as Stan
+# draws its inits, U(-2, 2): a matrix, a column each.
+random_starts <- function(instance, starts, seed) {
+  d <- rstan::get_num_upars(instance)
+  with_seed(seed, matrix(stats::runif(d * starts, -2, 2), d))
 }
 
 # The mode reached by BFGS from `u` and its log density (-Inf when the

@@ -312,6 +312,22 @@ test_that("two causes that explain the same residual give the ambiguous verdict"
   expect_match(attr(plain, "verdict"), "best explained by occupancy")
 })
 
+test_that("the verdict names the first cause and at most five others, each candidate once", {
+  table <- data.frame(candidate = c("hour, where weekend > 0.5", "hour, where temp > 20",
+                                    "solar", "temp", "rh", "weekend", "occupancy", "weekday",
+                                    "decoy"),
+                      share = seq(0.5, 0.1, length.out = 9), lower = 0, upper = 1, z = 3,
+                      p_value = 0.001, cv_gain = 0.1, explains = c(rep(TRUE, 8), FALSE))
+  verdict <- bayesbem:::explanation_verdict(table, 0.9)
+  expect_match(verdict, "best explained by hour, where weekend > 0.5: 50%", fixed = TRUE)
+  # "hour" named again in another region is not another cause
+  expect_match(verdict, "(also beyond chance: solar, temp, rh, weekend, occupancy and 1 more in the table).",
+               fixed = TRUE)
+  expect_no_match(verdict, "decoy")
+  three <- bayesbem:::explanation_verdict(table[c(1, 3, 4, 9), ], 0.9)
+  expect_match(three, "(also beyond chance: solar, temp).", fixed = TRUE)
+})
+
 test_that("on simulated nulls each family of terms holds its share of alpha", {
   # residuals drawn from the null itself (white noise about a constant), 36
   # rows of three inputs: the candidates' family may name a term in 4 % of
@@ -407,8 +423,9 @@ test_that("a region-specific line is named only where it beats its step and its 
   line <- (100 + 300 * table$occupancy) * (table$rh > 47) + noise
   main <- bayesbem:::main_terms(table)
   labels <- names(bayesbem:::region_terms(table, table))
+  null_free <- bayesbem:::with_totals(qr.resid(qr(basis), null))
   simplest <- function(name, r) {
-    bayesbem:::simplest_region(name, table, basis, r, null, 0.05, main, labels)
+    bayesbem:::simplest_region(name, table, basis, r, null_free, 0.05, main, labels)
   }
   for (effect in c("occupancy", "temp")) {
     named <- simplest(paste0(effect, ", where rh > 47"), step)
@@ -423,4 +440,17 @@ test_that("a region-specific line is named only where it beats its step and its 
   # steps and hinges are left as they are
   expect_identical(simplest("rh > 47", line), "rh > 47")
   expect_identical(simplest("max(rh - 47, 0)", line), "max(rh - 47, 0)")
+  # the lines' scores given a simpler term, from the null residuals
+  # projected once, as from the null residuals projected given that term
+  alt <- list(label = "occupancy", columns = main$occupancy)
+  lines <- c("occupancy, where rh > 47", "temp, where rh > 47", "temp, where rh < 47")
+  memo <- new.env()
+  kept <- bayesbem:::chances_given(alt, lines, table, basis, line, null_free, memo)
+  nuisance <- qr(cbind(basis, alt$columns))
+  again <- lapply(lines, function(l) {
+    bayesbem:::chance_z(bayesbem:::term_matrix(l, table), qr.resid(nuisance, line),
+                        bayesbem:::with_totals(qr.resid(nuisance, null)), nuisance)
+  })
+  expect_equal(kept, again, tolerance = 1e-10)
+  expect_setequal(ls(memo), paste("occupancy", lines, sep = "\r"))
 })

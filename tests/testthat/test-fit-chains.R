@@ -273,15 +273,29 @@ test_that("a list of starting values gives each chain its own", {
                list(rep(0.2, 3), rep(0.8, 3)))
 })
 
-test_that("a chain started at the mode starts where the gradient vanishes, from its own start", {
-  skip_on_cran()
-  withr::local_seed(26)
+# koh_basis.stan's data on 12 field rows (hourly, with `ar1`) and 8 runs:
+# the emulator at unit hyperparameters, a small additive discrepancy.
+small_basis_data <- function(ar1 = FALSE) {
   d <- random_grid_data(n = 12, runs = 8, extra = 2)
+  if (ar1) {
+    d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * (0:11)
+    d$names$period <- "time"
+  }
   priors <- koh_priors()
   emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
                    b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))),
                    basis = bayesbem:::basis_emulator(d, variance = 0.99))
-  sd <- bayesbem:::basis_stan_data(d, priors, emulator, bayesbem:::hsgp_design(m = 6, boundary = 3))
+  list(d = d, sd = bayesbem:::basis_stan_data(d, priors, emulator,
+                                              bayesbem:::hsgp_design(m = 6, boundary = 3),
+                                              ar1 = ar1))
+}
+
+test_that("a chain started at the mode starts where the gradient vanishes, from its own start", {
+  skip_on_cran()
+  withr::local_seed(26)
+  small <- small_basis_data()
+  d <- small$d
+  sd <- small$sd
   model <- bayesbem:::stanmodels$koh_basis
   starts <- lapply(1:2, function(chain) bayesbem:::mode_start(model, sd, 7, chain))
   instance <- koh_model_for(sd, "koh_basis")
@@ -299,15 +313,9 @@ test_that("a chain started at the mode starts where the gradient vanishes, from 
 test_that("koh_basis.stan samples through the Laplace approximation at a mode", {
   skip_on_cran()
   withr::local_seed(27)
-  d <- random_grid_data(n = 12, runs = 8, extra = 2)
-  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * (0:11)
-  d$names$period <- "time"
-  priors <- koh_priors()
-  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
-                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))),
-                   basis = bayesbem:::basis_emulator(d, variance = 0.99))
-  sd <- bayesbem:::basis_stan_data(d, priors, emulator, bayesbem:::hsgp_design(m = 6, boundary = 3),
-                                   ar1 = TRUE)
+  small <- small_basis_data(ar1 = TRUE)
+  d <- small$d
+  sd <- small$sd
   expect_equal(sd$n_u, d$q + d$p + 3)
   expect_equal(sd$u_scale, diag(sd$n_u))
   mapped <- bayesbem:::laplace_map(bayesbem:::stanmodels$koh_basis, sd, 5)
@@ -334,4 +342,27 @@ test_that("koh_basis.stan samples through the Laplace approximation at a mode", 
                  phi = as.array(0.6))
   back <- rstan::constrain_pars(instance, bayesbem:::basis_z(values, mapped))
   for (par in names(values)) expect_equal(as.numeric(back[[par]]), as.numeric(values[[par]]))
+})
+
+test_that("the Laplace map's search also starts from a small, smooth discrepancy", {
+  skip_on_cran()
+  withr::local_seed(28)
+  small <- small_basis_data()
+  d <- small$d
+  sd <- small$sd
+  instance <- koh_model_for(sd, "koh_basis")
+  starts <- bayesbem:::basis_starts(instance, sd, 5)
+  expect_equal(dim(starts), c(sd$n_u, 2 * bayesbem:::mode_starts))
+  random <- starts[, seq_len(bayesbem:::mode_starts)]
+  smooth <- starts[, -seq_len(bayesbem:::mode_starts)]
+  expect_true(all(random >= -2 & random <= 2))
+  # read back through Stan's own transforms: the discrepancy's length
+  # scales long and its precision high, the rest as the random starts
+  for (k in seq_len(ncol(smooth))) {
+    at_smooth <- rstan::constrain_pars(instance, smooth[, k])
+    at_random <- rstan::constrain_pars(instance, random[, k])
+    expect_equal(as.numeric(at_smooth$rho_delta), rep(stats::plogis(3), d$p))
+    expect_equal(as.numeric(at_smooth$lambda_delta), exp(3))
+    for (par in c("tf", "lambda_e")) expect_equal(at_smooth[[par]], at_random[[par]])
+  }
 })
