@@ -52,8 +52,11 @@
 #' turn (its components' uncertainty, truncated rest and white or AR(1)
 #' noise), at a cost linear in the rows. The emulator's part is inflated by
 #' how much the emulator understates its own error when each simulation
-#' run is predicted from the others (leave one run out), so an
-#' overconfident emulator does not raise alarms. Unlike shuffling the candidate,
+#' run is predicted from the others (leave one run out; with the basis
+#' emulator, 10-fold cross-validation over the runs with each component
+#' fitted again, as leave-one-out with its fitted length scales held cannot
+#' tell they are too long), so an overconfident emulator does not raise
+#' alarms. Unlike shuffling the candidate,
 #' this keeps the smoothness along the inputs that the emulator's error has.
 #' Each candidate's partial R^2 is put on one scale as a normal score
 #' under its null (`z`, through the Beta distribution with the null's mean

@@ -80,12 +80,16 @@ component_gls <- function(r, h, w) {
 # basis_components() in koh_functions.stan: mean h(tf)' b + k' alpha,
 # variance s2 (1 + nug) - k' ki k (at least 0).
 basis_weights <- function(basis, tf) {
-  wv <- vapply(basis$components, function(gp) {
-    k <- gp$s2 * exp(-tf_distance(basis$tc, tf, gp$beta))
-    c(sum(c(1, tf) * gp$b) + sum(k * gp$alpha),
-      max(gp$s2 * (1 + gp$nug) - drop(crossprod(k, gp$ki %*% k)), 0))
-  }, numeric(2))
+  wv <- vapply(basis$components, component_moments, numeric(2), tc = basis$tc, tf = tf)
   list(mean = wv[1, ], var = wv[2, ])
+}
+
+# One component's (fit_component() on the runs `tc`) mean and variance at
+# the scaled parameters tf.
+component_moments <- function(gp, tc, tf) {
+  k <- gp$s2 * exp(-tf_distance(tc, tf, gp$beta))
+  c(sum(c(1, tf) * gp$b) + sum(k * gp$alpha),
+    max(gp$s2 * (1 + gp$nug) - drop(crossprod(k, gp$ki %*% k)), 0))
 }
 
 # The basis emulator's eta at the field rows for scaled parameters tf:

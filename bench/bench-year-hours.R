@@ -11,7 +11,9 @@
 # transitions, mean leapfrog steps per draw, draws at the maximum tree
 # depth, min bulk ESS, the truth inside the 90 % intervals, the posterior
 # mean of phi, and the months whose measured total lies inside the 90 %
-# predictive interval of its total (200 draws with noise). With "daily": the embedded model by day on 2012,
+# predictive interval of its total (200 draws with noise); then the time
+# of explain_discrepancy() with the calendar (`weekend`, and by hour
+# `hour`) and what it names (the truth: nothing). With "daily": the embedded model by day on 2012,
 # 2013 and 2012 again (a third year of the same weather, `year` an
 # input), 1,097 days.
 # Usage, from the package root, with bayesbem installed:
@@ -46,11 +48,13 @@ problem <- if (daily) {
       out
     }, sims, seq_along(sims)))
   }
-  list(x = x, times = times, parameters = sims[[1]]$parameters, simulate = simulate_rows)
+  list(x = x, times = times, parameters = sims[[1]]$parameters, simulate = simulate_rows,
+       calendar = do.call(rbind, lapply(sims, calendar_covariates))["weekend"])
 } else {
   sim <- bem_simulator(weather(2013), by = "hour")
   keep <- seq_len(hours)
   list(x = sim$x[keep, ], times = sim$periods$start[keep], parameters = sim$parameters,
+       calendar = calendar_covariates(sim)[keep, c("hour", "weekend")],
        simulate = function(design) {
          out <- simulate_design(sim, design)
          out[rep((seq_len(nrow(design)) - 1L) * nrow(sim$x), each = hours) + keep, ]
@@ -85,6 +89,9 @@ rows <- lapply(runs_list, function(mt) {
     q <- stats::quantile(rowSums(predicted[, i, drop = FALSE]), c(0.05, 0.95))
     sum(field$y[i]) >= q[1] && sum(field$y[i]) <= q[2]
   }, logical(1))
+  t3 <- Sys.time()
+  explained <- explain_discrepancy(fit, problem$calendar, seed = 1)
+  t4 <- Sys.time()
   data.frame(rows = d$n, runs = mt, truth_noise = truth_noise, noise = fit$settings$noise_correlation,
              chains = chains,
              data_s = as.numeric(difftime(t1, t0, units = "secs")),
@@ -95,7 +102,9 @@ rows <- lapply(runs_list, function(mt) {
              min_bulk_ess = min(conv$ess_bulk, na.rm = TRUE),
              covered = sprintf("%d/%d", sum(covered), length(covered)),
              phi = if (identical(fit$settings$noise_correlation, "ar1")) mean(draws$phi) else NA,
-             months_covered = sprintf("%d/%d", sum(months_covered), length(months_covered)))
+             months_covered = sprintf("%d/%d", sum(months_covered), length(months_covered)),
+             explain_s = as.numeric(difftime(t4, t3, units = "secs")),
+             named = c(explained$candidate[explained$explains], "nothing")[1])
 })
 out <- do.call(rbind, rows)
 print(out, digits = 3, row.names = FALSE)

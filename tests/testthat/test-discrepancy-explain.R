@@ -137,23 +137,29 @@ test_that("with the basis emulator the null is the basis model's, at linear cost
             0.05)
 })
 
-test_that("the basis emulator's inflation is its components' leave-one-run-out error", {
+test_that("the basis emulator's inflation is its components' cross-validated error", {
   withr::local_seed(25)
-  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  d <- random_grid_data(n = 9, runs = 12, extra = 2)
   basis <- bayesbem:::basis_emulator(d, variance = 0.99)
   h <- cbind(1, basis$tc)
-  # each run's weight predicted from the others, the mean's coefficients held
+  fold <- (seq_len(12) - 1) %% 10 + 1
+  # each run's weight predicted by its component refitted without the run's
+  # fold, by the kriging equations with the refitted mean's coefficients
   z2 <- unlist(lapply(seq_along(basis$components), function(j) {
-    gp <- basis$components[[j]]
-    k <- gp$s2 * (exp(-as.matrix(stats::dist(sweep(basis$tc, 2, sqrt(gp$beta), "*")))^2) +
-                    diag(gp$nug, nrow(basis$tc)))
-    r <- basis$w[, j] - drop(h %*% gp$b)
-    vapply(seq_along(r), function(a) {
-      m <- sum(k[a, -a] * solve(k[-a, -a], r[-a]))
-      v <- k[a, a] - sum(k[a, -a] * solve(k[-a, -a], k[-a, a]))
-      (r[a] - m)^2 / v
-    }, numeric(1))
+    unlist(lapply(1:10, function(f) {
+      out <- fold == f
+      gp <- bayesbem:::fit_component(basis$tc[!out, , drop = FALSE], basis$w[!out, j])
+      scaled <- sweep(basis$tc, 2, sqrt(gp$beta), "*")
+      k <- gp$s2 * (exp(-as.matrix(stats::dist(scaled))^2) + diag(gp$nug, 12))
+      r <- basis$w[!out, j] - drop(h[!out, ] %*% gp$b)
+      vapply(which(out), function(a) {
+        m <- sum(h[a, ] * gp$b) + sum(k[a, !out] * solve(k[!out, !out], r))
+        v <- k[a, a] - sum(k[a, !out] * solve(k[!out, !out], k[!out, a]))
+        (basis$w[a, j] - m)^2 / v
+      }, numeric(1))
+    }))
   }))
+  expect_length(z2, 12 * length(basis$components))
   g <- list(basis = basis)
   expect_equal(bayesbem:::emulator_inflation(g, list()), max(1, mean(z2)), tolerance = 1e-6)
 })
