@@ -116,9 +116,9 @@ basis_inflation <- function(basis, folds = 10L) {
   z2 <- lapply(seq_along(basis$components), function(j) {
     unlist(lapply(unique(fold), function(f) {
       out <- fold == f
-      gp <- fit_component(tc[!out, , drop = FALSE], basis$w[!out, j])
-      held <- vapply(which(out), function(a) component_moments(gp, tc[!out, , drop = FALSE], tc[a, ]),
-                     numeric(2))
+      kept <- tc[!out, , drop = FALSE]
+      gp <- fit_component(kept, basis$w[!out, j])
+      held <- vapply(which(out), function(a) component_moments(gp, kept, tc[a, ]), numeric(2))
       (basis$w[out, j] - held[1, ])^2 / pmax(held[2, ], .Machine$double.eps)
     }))
   })
