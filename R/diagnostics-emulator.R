@@ -90,8 +90,9 @@
 #'   distance), `trusted` and `verdict`; on several outputs, a
 #'   `bayesbem_emulator_checks`, the list of them by output.
 #'   `posterior_simulate()`: the
-#'   field inputs with `mean`, `sd` and quantiles of the simulator's output,
-#'   or the matrix.
+#'   field inputs with `mean`, `sd`, median and the central `level`
+#'   interval's bounds (order statistics, as `predict()`'s) of the
+#'   simulator's output, or the matrix.
 #' @family diagnostics
 #' @export
 #' @examples
@@ -101,7 +102,7 @@
 #' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 #' check <- validate_emulator(seb_fit, sim, ndraws = 5)
 #' check
-#' posterior_simulate(seb_fit, sim, ndraws = 5)
+#' posterior_simulate(seb_fit, sim, ndraws = 20)
 #' }
 validate_emulator <- function(fit, simulator, ndraws = 40, level = 0.9, cache_dir = NULL, ...) {
   rlang::check_dots_empty()

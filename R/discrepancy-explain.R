@@ -104,7 +104,8 @@
 #' @param covariates Optional data frame with one row per field row (in the
 #'   field data's order) of further candidates; on several outputs, a list
 #'   of such tables named by output.
-#' @template args-level
+#' @param level Probability of the shares' intervals (a delete-a-block
+#'   jackknife over periods: how much each share rests on particular periods).
 #' @param alpha Family-wise error rate of the "explains" decisions.
 #' @param n_null Number of simulated null residuals: at least 100 with
 #'   regions, 20 without, at `alpha = 0.05` (an error says so), since no

@@ -5,8 +5,9 @@
 #' discrepancy `delta(x)`, and the simulator residual `y - eta(x, tf)`
 #' (discrepancy plus noise). Points are flagged with a simultaneous band of
 #' the residual, so that looking at n points at once does not find some by
-#' chance: the band is `mean +/- c sd` at every point, with `c` the `level`
-#' quantile over the posterior draws of the largest standardised deviation
+#' chance: the band is `mean +/- c sd` at every point, with `c` the
+#' order statistic (of rank `ceiling((n + 1) level)` of n draws) of the
+#' largest standardised deviation
 #' `max_i |r_i - mean_i| / sd_i` (a max-statistic band, which contains the
 #' whole residual vector with probability `level`). The global check comes
 #' first: the simulator is consistent with the data when the band contains
@@ -56,9 +57,8 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
   set <- prediction_set(fit, newdata, obs)
   draws <- predict_draws(fit, set$x, ndraws = ndraws)
   residual <- -sweep(draws$eta, 2, set$obs, "-")
-  probs <- interval_probs(level)
-  delta_int <- column_quantiles(draws$delta, probs)
-  residual_int <- column_quantiles(residual, probs)
+  delta_int <- column_intervals(draws$delta, level)
+  residual_int <- column_intervals(residual, level)
   band <- simultaneous_band(residual, level)
   share_of <- share_scale(set$obs)
   out <- data.frame(
@@ -89,12 +89,14 @@ outputs_discrepancy <- function(fit, newdata, obs, level, ndraws, call = rlang::
 }
 
 # Simultaneous band of the columns of a draws matrix: mean +/- c sd, with c
-# the `level` quantile of max_i |x_i - mean_i| / sd_i over the draws.
+# the order statistic of max_i |x_i - mean_i| / sd_i over the draws that a
+# new draw's stays below with probability `level` (covering_rank()).
 simultaneous_band <- function(draws, level) {
   centre <- colMeans(draws)
   spread <- pmax(apply(draws, 2, stats::sd), .Machine$double.eps)
   deviation <- abs(sweep(sweep(draws, 2, centre), 2, spread, "/"))
-  critical <- stats::quantile(apply(deviation, 1, max), level, names = FALSE)
+  largest <- apply(deviation, 1, max)
+  critical <- sort(largest)[covering_rank(length(largest), level)]
   list(lower = centre - critical * spread, upper = centre + critical * spread,
        critical = critical)
 }

@@ -9,7 +9,7 @@
 #' @return `plot_savings()` (and `plot(x)`): a ggplot. `plot_savings_data()`: a data frame
 #'   with one row per period: `period`, the box statistics `q5`, `q25`,
 #'   `q50`, `q75`, `q95`, and `mean`; its attribute `total` holds the
-#'   total's `mean`, `q5` and `q95`.
+#'   total's `mean` and its 90 % interval `q5`, `q95` (as in `summary(x)`).
 #' @family plots
 #' @family prediction
 #' @export
@@ -17,7 +17,7 @@
 #' \donttest{
 #' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 #' s <- savings(seb_fit, sim, scenario(sim, scale = c(equipment_power_density = 0.7)),
-#'              ndraws = 10)
+#'              ndraws = 20)
 #' plot_savings(s)
 #' }
 plot_savings <- function(x, ...) {
@@ -47,9 +47,9 @@ plot_savings_data <- function(x, ...) {
   check_plotted(x, "bayesbem_savings", "savings")
   n <- ncol(x$savings)
   total <- rowSums(x$savings)
+  bounds <- column_intervals(cbind(total), 0.9)
   structure(data.frame(period = factor(seq_len(n)), box_stats(x$savings),
                        mean = colMeans(x$savings)),
-            total = data.frame(mean = mean(total),
-                               q5 = stats::quantile(total, 0.05, names = FALSE),
-                               q95 = stats::quantile(total, 0.95, names = FALSE)))
+            total = data.frame(mean = mean(total), q5 = bounds[, "lower"],
+                               q95 = bounds[, "upper"]))
 }

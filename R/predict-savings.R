@@ -50,7 +50,7 @@
 #' \donttest{
 #' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 #' s <- savings(seb_fit, scenario(sim),
-#'              scenario(sim, scale = c(equipment_power_density = 0.7)), ndraws = 10)
+#'              scenario(sim, scale = c(equipment_power_density = 0.7)), ndraws = 20)
 #' s
 #' plot_savings(s)
 #' }
@@ -113,7 +113,7 @@ summary.bayesbem_savings_outputs <- function(object, level = 0.9, ...) {
   cols <- c("period", "savings", "sd", "lower", "upper")
   tables <- lapply(object$outputs, function(s) summary(s, level = level)[cols])
   if (!is.null(object$total)) {
-    q <- column_quantiles(object$total, interval_probs(level))
+    q <- column_intervals(object$total, level)
     tables$total <- data.frame(period = total_labels(ncol(object$total) - 1L),
                                savings = colMeans(object$total),
                                sd = apply(object$total, 2, stats::sd), lower = q[, 1],
@@ -137,7 +137,7 @@ summary.bayesbem_savings <- function(object, level = 0.9, ...) {
   rlang::check_dots_empty()
   check_probability(level)
   saved <- with_total(object$savings)
-  q <- column_quantiles(saved, interval_probs(level))
+  q <- column_intervals(saved, level)
   baseline <- colMeans(with_total(object$baseline))
   data.frame(period = total_labels(ncol(object$savings)), baseline = baseline,
              retrofit = colMeans(with_total(object$retrofit)), savings = colMeans(saved),
@@ -230,7 +230,7 @@ check_same_periods <- function(baseline, retrofit, call = rlang::caller_env()) {
 #' \donttest{
 #' sim <- bem_simulator(system.file("extdata", "2012_AMY.epw.gz", package = "bayesbem"))
 #' after <- 0.8 * seb_field$y   # bills of a year after a retrofit
-#' avoided_energy(seb_fit, sim, after, ndraws = 10)
+#' avoided_energy(seb_fit, sim, after, ndraws = 20)
 #' }
 avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
                            discrepancy = c("same", "proportional", "none"), covariates = NULL,
@@ -256,7 +256,7 @@ avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
   adjusted <- prediction$y[, keep, drop = FALSE]
   avoided <- adjusted - rep(obs, each = nrow(adjusted))
   both <- with_total(avoided)
-  q <- column_quantiles(both, interval_probs(level))
+  q <- column_intervals(both, level)
   table <- data.frame(period = c(as.character(keep), "total"),
                       adjusted_baseline = colMeans(with_total(adjusted)),
                       obs = c(obs, sum(obs)), avoided = colMeans(both),
@@ -307,9 +307,9 @@ summary.bayesbem_avoided_energy_outputs <- function(object, ...) {
   cols <- c("period", "avoided", "sd", "lower", "upper")
   tables <- lapply(object$outputs, function(a) a$table[cols])
   if (!is.null(object$total)) {
-    q <- stats::quantile(object$total, interval_probs(object$level), names = FALSE)
+    q <- column_intervals(cbind(object$total), object$level)
     tables$total <- data.frame(period = "total", avoided = mean(object$total),
-                               sd = stats::sd(object$total), lower = q[1], upper = q[2])
+                               sd = stats::sd(object$total), lower = q[, 1], upper = q[, 2])
   }
   stack_outputs(tables)
 }

@@ -47,15 +47,16 @@
 #'   the prediction), `simulated` (the simulator's outputs) and `delta`
 #'   (the discrepancy; zero without it), `inputs` (the scenario's
 #'   observable inputs), `draw` (the posterior draws' indices) and
-#'   `scenario`. `summary()` gives per period and in total the mean, sd and
-#'   quantiles.
+#'   `scenario`. `summary(x, level)` gives per period and in total the
+#'   mean, sd, median and the bounds of the central `level` interval (order
+#'   statistics of the draws, as `predict()`'s).
 #' @family prediction
 #' @export
 #' @examples
 #' \donttest{
 #' # seb_fit's runs are EnergyPlus's; the embedded model stands in here
 #' sim_2012 <- bem_simulator(system.file("extdata", "2012_AMY.epw.gz", package = "bayesbem"))
-#' p <- predict_scenario(seb_fit, sim_2012, ndraws = 10)
+#' p <- predict_scenario(seb_fit, sim_2012, ndraws = 20)
 #' p
 #' summary(p)
 #' }

@@ -10,16 +10,54 @@ interval_probs <- function(level) c((1 - level) / 2, (1 + level) / 2)
 column_quantiles <- function(draws, probs) {
   q <- matrix(t(apply(draws, 2, stats::quantile, probs = probs, names = FALSE)),
               ncol = length(probs))
-  colnames(q) <- paste0("q", signif(100 * probs, 3))
+  colnames(q) <- quantile_names(probs)
   q
 }
 
+# Column names of quantiles: q5, q50, q95 for 0.05, 0.5, 0.95.
+quantile_names <- function(probs) paste0("q", signif(100 * probs, 3))
+
+# The central `level` interval of each column of a draws matrix from order
+# statistics: X_(k) and X_(j) of the n draws, j = covering_rank(n, (1 +
+# level) / 2), k = n + 1 - j. A new draw of the same distribution falls
+# inside with probability (j - k) / (n + 1) >= level whatever n (the draws
+# being exchangeable), where the empirical quantiles of a few draws cover
+# less than `level`. A matrix: a row per column of `draws`, columns lower
+# and upper.
+column_intervals <- function(draws, level) {
+  n <- nrow(draws)
+  upper <- covering_rank(n, (1 + level) / 2)
+  ranks <- c(n + 1L - upper, upper)
+  bounds <- matrix(apply(draws, 2, function(x) sort(x, partial = ranks)[ranks]), nrow = 2L)
+  cbind(lower = bounds[1, ], upper = bounds[2, ])
+}
+
+# The rank j of the order statistic X_(j) of n draws that a new draw stays
+# below with probability j / (n + 1) >= p: ceiling((n + 1) p). With fewer
+# than p / (1 - p) draws no rank reaches p; the largest is taken, with a
+# warning that says how many draws would.
+covering_rank <- function(n, p) {
+  rank <- ceiling((n + 1) * p - 1e-8)
+  if (rank > n) {
+    needed <- ceiling(p / (1 - p) - 1e-8)
+    warn_bayesbem(c("{n} draw{?s} are too few for this interval.",
+                    i = "A new draw exceeds the largest of them {round(100 / (n + 1), 1)} % of the time, more than the {signif(100 * (1 - p), 3)} % the interval allows at that end.",
+                    i = "Take {.arg ndraws} at least {needed}."),
+                  "draws")
+    rank <- n
+  }
+  as.integer(rank)
+}
+
 # Data frame of `inputs` with the mean, sd, median and the bounds of the
-# central `level` interval of each column of `draws` (q5, q50, q95 at 0.9).
+# central `level` interval of each column of `draws` (column_intervals(),
+# named q5 and q95 at 0.9).
 summarise_columns <- function(draws, inputs, level) {
-  probs <- sort(c(interval_probs(level), 0.5))
+  bounds <- column_intervals(draws, level)
+  colnames(bounds) <- quantile_names(interval_probs(level))
   data.frame(inputs, mean = colMeans(draws), sd = apply(draws, 2, stats::sd),
-             column_quantiles(draws, probs), row.names = NULL)
+             bounds[, 1, drop = FALSE], column_quantiles(draws, 0.5), bounds[, 2, drop = FALSE],
+             row.names = NULL)
 }
 
 # Tables by output (a named list) stacked, a first column `output` naming

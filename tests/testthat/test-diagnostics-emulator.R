@@ -23,7 +23,9 @@ test_that("the emulator of a fit on the right simulator passes the closed loop",
   expect_equal(dim(attr(check$shift, "draws")), c(8, 2))
   expect_true(all(abs(check$shift$shift) < 0.5))
   # the real simulator's output distribution at the posterior
-  ps <- posterior_simulate(case$base, sim, ndraws = 8)
+  # (8 draws are too few for its 90 % intervals, which it says)
+  expect_warning(ps <- posterior_simulate(case$base, sim, ndraws = 8),
+                 class = "bayesbem_warning_draws")
   expect_equal(ps$mean, colMeans(matrix(check$table$simulated, nrow = 8, byrow = TRUE)))
 })
 

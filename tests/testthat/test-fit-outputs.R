@@ -162,8 +162,8 @@ test_that("scenarios of a fit on several outputs: one run per draw for all, and 
   runs <- new.env()
   counting <- counting_simulator(runs, sim)
   set.seed(2)
-  p <- predict_scenario(fit, counting, ndraws = 5, total = c(electricity = 1, gas = 2))
-  expect_equal(runs$calls, 5)
+  p <- predict_scenario(fit, counting, ndraws = 20, total = c(electricity = 1, gas = 2))
+  expect_equal(runs$calls, 20)
   expect_equal(p$total, p$outputs$electricity$y + 2 * p$outputs$gas$y)
   s <- summary(p)
   expect_equal(unique(s$output), c("electricity", "gas", "total"))
@@ -171,7 +171,7 @@ test_that("scenarios of a fit on several outputs: one run per draw for all, and 
   # each output's prediction is that output's own, from the same draws
   set.seed(2)
   alone <- predict_scenario(output_fit(fit, "electricity"), output_simulator(sim, "electricity"),
-                            ndraws = 5)
+                            ndraws = 20)
   expect_equal(p$outputs$electricity$y, alone$y)
   expect_equal(p$outputs$gas$draw, alone$draw)
   expect_error(predict_scenario(seb_fit, sim, total = c(a = 1)), class = "bayesbem_error_argument")
@@ -185,19 +185,19 @@ test_that("every verb takes a fit on several outputs: each output's result, from
   gas_sim <- output_simulator(sim, "gas")
   # the simulator at the posterior: one run per draw serves both outputs
   runs <- new.env()
-  simulated <- posterior_simulate(fit, counting_simulator(runs, sim), ndraws = 3)
-  expect_equal(runs$calls, 3)
+  simulated <- posterior_simulate(fit, counting_simulator(runs, sim), ndraws = 20)
+  expect_equal(runs$calls, 20)
   expect_equal(simulated[simulated$output == "gas", -1],
-               posterior_simulate(gas, gas_sim, ndraws = 3), ignore_attr = TRUE)
+               posterior_simulate(gas, gas_sim, ndraws = 20), ignore_attr = TRUE)
   # avoided energy: each output's, and the weighted total of their totals
   after <- list(electricity = rep(1500, 12), gas = c(rep(800, 11), NA))
   # (the same noise draws: gas's come after electricity's)
-  avoided <- withr::with_seed(1, avoided_energy(fit, sim, after, ndraws = 3,
+  avoided <- withr::with_seed(1, avoided_energy(fit, sim, after, ndraws = 20,
                                                 total = c(electricity = 1, gas = 2)))
   own <- withr::with_seed(1, {
     avoided_energy(output_fit(fit, "electricity"), output_simulator(sim, "electricity"),
-                   after$electricity, ndraws = 3)
-    avoided_energy(gas, gas_sim, after$gas, ndraws = 3)
+                   after$electricity, ndraws = 20)
+    avoided_energy(gas, gas_sim, after$gas, ndraws = 20)
   })
   expect_equal(avoided$outputs$gas$table, own$table)
   totals <- lapply(avoided$outputs, function(a) rowSums(a$draws) - sum(a$obs))
@@ -205,7 +205,7 @@ test_that("every verb takes a fit on several outputs: each output's result, from
   s <- summary(avoided)
   expect_equal(s$avoided[s$output == "total"], mean(avoided$total))
   expect_equal(sum(s$output == "gas"), 12)  # 11 measured months and their total
-  expect_error(avoided_energy(fit, sim, after$gas, ndraws = 3), class = "bayesbem_error_argument")
+  expect_error(avoided_energy(fit, sim, after$gas, ndraws = 20), class = "bayesbem_error_argument")
   expect_error(avoided_energy(gas, gas_sim, after$gas, total = c(gas = 1)),
                class = "bayesbem_error_argument")
   # the diagnosis: each output's on its own
@@ -245,9 +245,9 @@ test_that("savings of a fit on several outputs: each output's, and their priced 
   runs <- new.env()
   counting <- counting_simulator(runs)
   led <- scenario(counting, set = c(lighting_power_density = 7))
-  s <- savings(fit, scenario(counting), led, ndraws = 4, total = c(electricity = 0.2, gas = 0.05))
+  s <- savings(fit, scenario(counting), led, ndraws = 20, total = c(electricity = 0.2, gas = 0.05))
   # one run per draw and scenario serves both outputs
-  expect_equal(runs$calls, 8)
+  expect_equal(runs$calls, 40)
   expect_equal(s$total, 0.2 * cbind(s$outputs$electricity$savings, rowSums(s$outputs$electricity$savings)) +
                  0.05 * cbind(s$outputs$gas$savings, rowSums(s$outputs$gas$savings)))
   # LED lighting saves electricity and costs heating gas

@@ -1,10 +1,10 @@
 test_that("paired savings equal the simulator's by hand at the same posterior draws", {
   sim <- linear_seb_simulator()
   retrofit <- scenario(sim, scale = c(equipment_power_density = 0.8), name = "efficient")
-  s <- savings(seb_fit, sim, retrofit, ndraws = 12, discrepancy = "none")
+  s <- savings(seb_fit, sim, retrofit, ndraws = 20, discrepancy = "none")
   d <- used_draws(seb_fit, s$draw)
   # the linear simulator saves 40 * 0.2 * epd in every period
-  expect_equal(unname(s$savings), matrix(8 * d$equipment_power_density, 12, 12),
+  expect_equal(unname(s$savings), matrix(8 * d$equipment_power_density, 20, 12),
                tolerance = 1e-6)
   expect_equal(s$baseline - s$retrofit, s$savings)
   sm <- summary(s)
@@ -16,7 +16,7 @@ test_that("paired savings equal the simulator's by hand at the same posterior dr
   expect_match(out[1], "efficient against as calibrated")
   expect_match(paste(out, collapse = "\n"), "total savings")
   # the Monte Carlo error of the total's mean, by hand
-  mcse <- signif(stats::sd(rowSums(s$savings)) / sqrt(12), 2)
+  mcse <- signif(stats::sd(rowSums(s$savings)) / sqrt(nrow(s$savings)), 2)
   expect_match(paste(out, collapse = "\n"), paste("Monte Carlo standard error of the total:", mcse),
                fixed = TRUE)
 })
@@ -58,10 +58,10 @@ test_that("baseline and retrofit over other periods are refused", {
 test_that("avoided energy is the adjusted baseline less the measured use", {
   sim <- linear_seb_simulator()
   withr::local_seed(8)
-  adjusted <- predict_scenario(seb_fit, sim, ndraws = 10)$y
+  adjusted <- predict_scenario(seb_fit, sim, ndraws = 20)$y
   measured <- 0.8 * seb_field$y
   withr::local_seed(8)
-  a <- avoided_energy(seb_fit, sim, measured, ndraws = 10)
+  a <- avoided_energy(seb_fit, sim, measured, ndraws = 20)
   expect_equal(a$draws, adjusted)
   tab <- a$table
   expect_equal(tab$avoided[1:12], colMeans(adjusted) - measured)
@@ -73,9 +73,9 @@ test_that("avoided energy is the adjusted baseline less the measured use", {
   expect_error(avoided_energy(seb_fit, sim, rep(NA_real_, 12)), class = "bayesbem_error_argument")
   # the discrepancy choice is predict_scenario()'s
   withr::local_seed(8)
-  alone <- predict_scenario(seb_fit, sim, ndraws = 10, discrepancy = "none")$y
+  alone <- predict_scenario(seb_fit, sim, ndraws = 20, discrepancy = "none")$y
   withr::local_seed(8)
-  expect_equal(avoided_energy(seb_fit, sim, measured, ndraws = 10, discrepancy = "none")$draws,
+  expect_equal(avoided_energy(seb_fit, sim, measured, ndraws = 20, discrepancy = "none")$draws,
                alone)
 })
 
@@ -83,9 +83,9 @@ test_that("avoided energy leaves out the periods without a measurement", {
   sim <- linear_seb_simulator()
   measured <- c(0.8 * seb_field$y[1:6], rep(NA, 6))
   withr::local_seed(8)
-  all <- avoided_energy(seb_fit, sim, 0.8 * seb_field$y, ndraws = 10)
+  all <- avoided_energy(seb_fit, sim, 0.8 * seb_field$y, ndraws = 20)
   withr::local_seed(8)
-  half <- avoided_energy(seb_fit, sim, measured, ndraws = 10)
+  half <- avoided_energy(seb_fit, sim, measured, ndraws = 20)
   expect_equal(half$table$period, c(as.character(1:6), "total"))
   expect_equal(half$draws, all$draws[, 1:6])
   expect_equal(half$table$avoided[7], sum(all$table$avoided[1:6]))
@@ -116,18 +116,18 @@ test_that("savings and avoided energy of an extended fit take its covariates", {
   retrofit <- scenario(sim, scale = c(equipment_power_density = 0.8))
   expect_error(savings(ext, sim, retrofit, ndraws = 4), class = "bayesbem_error_columns")
   one_more <- data.frame(working_days = working$working_days + 1)
-  s <- withr::with_seed(3, savings(ext, sim, retrofit, ndraws = 8, covariates = working))
-  s1 <- withr::with_seed(3, savings(ext, sim, retrofit, ndraws = 8, covariates = one_more))
+  s <- withr::with_seed(3, savings(ext, sim, retrofit, ndraws = 20, covariates = working))
+  s1 <- withr::with_seed(3, savings(ext, sim, retrofit, ndraws = 20, covariates = one_more))
   gamma <- posterior::as_draws_df(ext)$`gamma[working_days]`[s$draw]
   # a working day more adds its coefficient to every month's use, draw by
   # draw, under both scenarios: the savings do not change
-  expect_equal(unname(s1$baseline - s$baseline), matrix(gamma, 8, 12), tolerance = 1e-6)
+  expect_equal(unname(s1$baseline - s$baseline), matrix(gamma, 20, 12), tolerance = 1e-6)
   expect_equal(s1$savings, s$savings, tolerance = 1e-8)
   after <- 0.9 * seb_field$y
-  a <- withr::with_seed(4, avoided_energy(ext, sim, after, ndraws = 8, covariates = working))
-  a1 <- withr::with_seed(4, avoided_energy(ext, sim, after, ndraws = 8, covariates = one_more))
+  a <- withr::with_seed(4, avoided_energy(ext, sim, after, ndraws = 20, covariates = working))
+  a1 <- withr::with_seed(4, avoided_energy(ext, sim, after, ndraws = 20, covariates = one_more))
   gamma <- posterior::as_draws_df(ext)$`gamma[working_days]`[a$draw]
-  expect_equal(unname(a1$draws - a$draws), matrix(gamma, 8, 12), tolerance = 1e-6)
+  expect_equal(unname(a1$draws - a$draws), matrix(gamma, 20, 12), tolerance = 1e-6)
   expect_error(avoided_energy(ext, sim, after, ndraws = 4, covariates = working[1:6, , drop = FALSE]),
                class = "bayesbem_error_covariates")
 })

@@ -25,14 +25,14 @@ test_that("a scenario's simulated draws equal the simulator at the posterior dra
   withr::local_seed(1)
   s <- scenario(sim, scale = c(equipment_power_density = 0.7),
                 set = c(lighting_power_density = 8))
-  p <- predict_scenario(seb_fit, s, ndraws = 15, discrepancy = "none", noise = FALSE)
+  p <- predict_scenario(seb_fit, s, ndraws = 20, discrepancy = "none", noise = FALSE)
   d <- used_draws(seb_fit, p$draw)
   by_hand <- outer(1000 + 40 * 0.7 * d$equipment_power_density - 300 * d$fan_total_efficiency +
                      2e5 * d$infiltration_per_exterior_area + 80,
                    5 * abs(seb_field$temp - 15), `+`)
   expect_equal(unname(p$simulated), unname(by_hand), tolerance = 1e-6)
   expect_equal(p$y, p$simulated)
-  expect_equal(length(p$draw), 15)
+  expect_equal(length(p$draw), 20)
   # the summary has a row per period and the total
   sm <- summary(p)
   expect_equal(sm$period, c(as.character(1:12), "total"))
@@ -92,19 +92,19 @@ test_that("a proportional discrepancy is the calibrated model's, scaled by the s
   sim <- linear_seb_simulator()
   retrofit <- scenario(sim, scale = c(equipment_power_density = 0.7))
   withr::local_seed(6)
-  calibrated <- predict_scenario(seb_fit, sim, ndraws = 10, noise = FALSE)
+  calibrated <- predict_scenario(seb_fit, sim, ndraws = 20, noise = FALSE)
   withr::local_seed(6)
-  same <- predict_scenario(seb_fit, retrofit, ndraws = 10, noise = FALSE)
+  same <- predict_scenario(seb_fit, retrofit, ndraws = 20, noise = FALSE)
   withr::local_seed(6)
-  scaled <- predict_scenario(seb_fit, retrofit, ndraws = 10, discrepancy = "proportional",
+  scaled <- predict_scenario(seb_fit, retrofit, ndraws = 20, discrepancy = "proportional",
                              noise = FALSE)
   expect_identical(scaled$simulated, same$simulated)
   expect_equal(scaled$delta, calibrated$delta * scaled$simulated / calibrated$simulated)
   # without a change, proportional is the same discrepancy
   withr::local_seed(6)
-  expect_equal(predict_scenario(seb_fit, sim, ndraws = 10, discrepancy = "proportional",
+  expect_equal(predict_scenario(seb_fit, sim, ndraws = 20, discrepancy = "proportional",
                                 noise = FALSE)$delta, calibrated$delta)
-  none <- predict_scenario(seb_fit, retrofit, ndraws = 10, discrepancy = "none", noise = FALSE)
+  none <- predict_scenario(seb_fit, retrofit, ndraws = 20, discrepancy = "none", noise = FALSE)
   expect_equal(none$y, none$simulated)
   expect_output(print(scaled), "the discrepancy \\(proportional\\)")
   expect_error(predict_scenario(seb_fit, retrofit, discrepancy = TRUE),

@@ -81,7 +81,7 @@ test_that("newdata is checked: extrapolation warns, wrong columns fail", {
   skip_on_cran()
   fit <- shared_fit()
   hot <- data.frame(temp = 35, rh = 40, solar = 250)
-  expect_warning(predict(fit, hot, ndraws = 5), class = "bayesbem_warning_extrapolation")
+  expect_warning(predict(fit, hot, ndraws = 20), class = "bayesbem_warning_extrapolation")
   expect_error(predict(fit, data.frame(temp = 1, rh = 2)), class = "bayesbem_error_columns")
   expect_snapshot(predict(fit, data.frame(temp = 1, rh = 2)), error = TRUE)
   expect_snapshot(predict(fit, type = "eta", method = "sampled"), error = TRUE)
