@@ -23,12 +23,14 @@ quantile_names <- function(probs) paste0("q", signif(100 * probs, 3))
 # inside with probability (j - k) / (n + 1) >= level whatever n (the draws
 # being exchangeable), where the empirical quantiles of a few draws cover
 # less than `level`. A matrix: a row per column of `draws`, columns lower
-# and upper.
+# and upper (NA for a column with a missing draw).
 column_intervals <- function(draws, level) {
   n <- nrow(draws)
   upper <- covering_rank(n, (1 + level) / 2)
   ranks <- c(n + 1L - upper, upper)
-  bounds <- matrix(apply(draws, 2, function(x) sort(x, partial = ranks)[ranks]), nrow = 2L)
+  bounds <- matrix(apply(draws, 2, function(x) {
+    if (anyNA(x)) c(NA_real_, NA_real_) else sort(x, partial = ranks)[ranks]
+  }), nrow = 2L)
   cbind(lower = bounds[1, ], upper = bounds[2, ])
 }
 

@@ -4,6 +4,9 @@ test_that("a central interval from n draws is the order statistics that hold a n
   expect_equal(column_intervals(x, 0.9), cbind(lower = c(2, 102), upper = c(39, 139)))
   # 19 draws are the fewest for 0.9: the smallest and largest, (19 - 1) / 20 = 0.9
   expect_equal(column_intervals(matrix(19:1), 0.9), cbind(lower = 1, upper = 19))
+  # a missing draw is not dropped: its column's interval is unknown
+  expect_equal(column_intervals(cbind(c(NA, 1:19), 20:1), 0.9),
+               cbind(lower = c(NA, 1), upper = c(NA, 20)))
   # a new draw of the same distribution falls inside (n + 1 - 2k) / (n + 1)
   # of the time (41 - 4) / 41 = 0.902, where the empirical quantiles of 40
   # draws cover about 0.86
