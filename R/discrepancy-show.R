@@ -89,8 +89,8 @@ outputs_discrepancy <- function(fit, newdata, obs, level, ndraws, call = rlang::
 }
 
 # Simultaneous band of the columns of a draws matrix: mean +/- c sd, with c
-# the order statistic of max_i |x_i - mean_i| / sd_i over the draws that a
-# new draw's stays below with probability `level` (covering_rank()).
+# the order statistic of the draws' max_i |x_i - mean_i| / sd_i that a new
+# draw's stays below with probability >= `level` (covering_rank()).
 simultaneous_band <- function(draws, level) {
   centre <- colMeans(draws)
   spread <- pmax(apply(draws, 2, stats::sd), .Machine$double.eps)
