@@ -113,11 +113,9 @@ summary.bayesbem_savings_outputs <- function(object, level = 0.9, ...) {
   cols <- c("period", "savings", "sd", "lower", "upper")
   tables <- lapply(object$outputs, function(s) summary(s, level = level)[cols])
   if (!is.null(object$total)) {
-    q <- column_intervals(object$total, level)
     tables$total <- data.frame(period = total_labels(ncol(object$total) - 1L),
                                savings = colMeans(object$total),
-                               sd = apply(object$total, 2, stats::sd), lower = q[, 1],
-                               upper = q[, 2], row.names = NULL)
+                               interval_table(object$total, level), row.names = NULL)
   }
   stack_outputs(tables)
 }
@@ -137,12 +135,11 @@ summary.bayesbem_savings <- function(object, level = 0.9, ...) {
   rlang::check_dots_empty()
   check_probability(level)
   saved <- with_total(object$savings)
-  q <- column_intervals(saved, level)
   baseline <- colMeans(with_total(object$baseline))
   data.frame(period = total_labels(ncol(object$savings)), baseline = baseline,
              retrofit = colMeans(with_total(object$retrofit)), savings = colMeans(saved),
-             sd = apply(saved, 2, stats::sd), lower = q[, 1], upper = q[, 2],
-             percent = 100 * colMeans(saved) / baseline, row.names = NULL)
+             interval_table(saved, level), percent = 100 * colMeans(saved) / baseline,
+             row.names = NULL)
 }
 
 #' @export
@@ -256,12 +253,10 @@ avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
   adjusted <- prediction$y[, keep, drop = FALSE]
   avoided <- adjusted - rep(obs, each = nrow(adjusted))
   both <- with_total(avoided)
-  q <- column_intervals(both, level)
   table <- data.frame(period = c(as.character(keep), "total"),
                       adjusted_baseline = colMeans(with_total(adjusted)),
                       obs = c(obs, sum(obs)), avoided = colMeans(both),
-                      sd = apply(both, 2, stats::sd), lower = q[, 1], upper = q[, 2],
-                      row.names = NULL)
+                      interval_table(both, level), row.names = NULL)
   total <- table[nrow(table), ]
   fsu <- data.frame(
     method = c("bayesbem (posterior draws)", "ASHRAE Guideline 14, Annex B"),
@@ -307,9 +302,8 @@ summary.bayesbem_avoided_energy_outputs <- function(object, ...) {
   cols <- c("period", "avoided", "sd", "lower", "upper")
   tables <- lapply(object$outputs, function(a) a$table[cols])
   if (!is.null(object$total)) {
-    q <- column_intervals(cbind(object$total), object$level)
     tables$total <- data.frame(period = "total", avoided = mean(object$total),
-                               sd = stats::sd(object$total), lower = q[, 1], upper = q[, 2])
+                               interval_table(cbind(object$total), object$level))
   }
   stack_outputs(tables)
 }

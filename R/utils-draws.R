@@ -51,6 +51,14 @@ covering_rank <- function(n, p) {
   as.integer(rank)
 }
 
+# The sd and the central `level` interval (column_intervals()) of each
+# column of `draws`: a data frame with columns sd, lower and upper.
+interval_table <- function(draws, level) {
+  bounds <- column_intervals(draws, level)
+  data.frame(sd = apply(draws, 2, stats::sd), lower = bounds[, "lower"],
+             upper = bounds[, "upper"], row.names = NULL)
+}
+
 # Data frame of `inputs` with the mean, sd, median and the bounds of the
 # central `level` interval of each column of `draws` (column_intervals(),
 # named q5 and q95 at 0.9).
