@@ -48,6 +48,8 @@
 # right cause is named, extend() adds it and the gain is measured: held-out
 # CVRMSE of the predictive mean and coverage of the true parameters by
 # their 90 % intervals, before and after (not by hour: no held-out rows).
+# `in_span`: the share of the effect that recalibration can produce, which
+# no diagnosis can tell from parameter error.
 # Usage, from the package root with bayesbem installed:
 #   Rscript bench/bench-diagnosis.R [simulators] [shapes] [problems]
 #   e.g. embedded,degreeday none,covariate 1-10 (the defaults: all, all, 1-10)
@@ -269,6 +271,23 @@ redrawn_alarms <- function(st, problem, train_covariates, k, draws) {
   }), logical(1)))
 }
 
+# The share of a problem's hidden effect (at the training rows) that lies in
+# what recalibration can do, the span explain_discrepancy() projects off
+# (design C2): near 1, the data cannot tell the effect from parameter error.
+effect_in_span <- function(st, problem, shape) {
+  effect <- effects[[shape]](problem$field, attr(problem$field, "simulated"), st$scale %||% 1)
+  if (length(effect) == 1L) {
+    return(NA_real_)
+  }
+  effect <- effect[training_rows(st)]
+  ns <- asNamespace("bayesbem")
+  g <- ns$explanation_geometry(problem$base)
+  pars <- ns$draw_parameters(problem$base, NULL)
+  tf <- do.call(rbind, lapply(pars, `[[`, "tf"))
+  basis <- ns$recalibration_basis(-ns$residuals_given_runs(g, pars)$residual, tf)
+  1 - sum(qr.resid(qr(basis), effect)^2) / sum((effect - mean(effect))^2)
+}
+
 training_rows <- function(st) setdiff(seq_len(nrow(st$sim$x)), st$held_out)
 
 cached_problem <- function(st, shape, k) {
@@ -318,7 +337,8 @@ one_problem <- function(st, shape, k) {
                !any(vapply(ambiguous, is_right, logical(1))),
              cvrmse_before = before[["cvrmse"]], cvrmse_after = after[["cvrmse"]],
              covered_before = before[["covered"]], covered_after = after[["covered"]],
-             parameters = length(truth), redraws = redraws,
+             parameters = length(truth), in_span = effect_in_span(st, problem, shape),
+             redraws = redraws,
              redrawn_alarms = redrawn_alarms(st, problem, train_covariates, k, redraws))
 }
 
@@ -338,12 +358,13 @@ summary_rows <- lapply(split(out, list(out$simulator, out$shape), drop = TRUE), 
   data.frame(simulator = s$simulator[1], shape = s$shape[1], problems = nrow(s),
              some_cause_named = sum(s$named != "nothing"), named_right = sum(s$right),
              ambiguous_with_right = sum(s$right_among_ambiguous), named_wrong = sum(s$wrong),
+             in_span = stats::median(s$in_span),
              cvrmse_before = if (any(s$right)) stats::median(s$cvrmse_before[s$right]) else NA,
              cvrmse_after = if (any(s$right)) stats::median(s$cvrmse_after[s$right]) else NA,
              covered_before = sprintf("%d/%d", sum(s$covered_before[s$right]), sum(s$parameters[s$right])),
              covered_after = sprintf("%d/%d", sum(s$covered_after[s$right]), sum(s$parameters[s$right])))
 })
-cat("\nPer simulator and shape (CVRMSE %: held-out median over problems named right; covered: true parameters inside their 90 % intervals, problems named right):\n")
+cat("\nPer simulator and shape (in_span: median share of the effect that recalibration can produce; CVRMSE %: held-out median over problems named right; covered: true parameters inside their 90 % intervals, problems named right):\n")
 print(do.call(rbind, summary_rows), row.names = FALSE, digits = 3)
 nulls <- out[out$shape == "none", ]
 if (nrow(nulls) > 0) {
