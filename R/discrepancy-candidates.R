@@ -107,15 +107,17 @@ refine_region <- function(name, candidates, free, nuisance) {
 }
 
 # A named region-specific line ("a, where b > c"), or the simpler term it
-# does not beat beyond chance: its region's step "b > c" (its cut refined
-# on its own) or the candidate `a` over all rows (its `main` terms). A line
-# holds its step and nearly holds `a` (two columns where `a` has one), so
-# the share alone would prefer it. Against each simpler term, the line's
-# columns are tested given it and recalibration (`basis`): the R^2 of the
-# posterior mean residual by them against the null residuals', adjusted
-# by the max statistic over the lines it was chosen among (every
-# candidate's line in that region, against the step; every line of `a`,
-# among `labels`, against `a`), at `alpha`. Of the simpler terms the line
+# does not beat: its region's step "b > c" (its cut refined on its own) or
+# the candidate `a` over all rows (its `main` terms). A line holds its step
+# and nearly holds `a` (two columns where `a` has one), so the share alone
+# would prefer it. Against each simpler term, the line's columns are tested
+# given it and recalibration (`basis`): the R^2 of the posterior mean
+# residual by them against the null residuals', adjusted by the max
+# statistic over the lines it was chosen among (every candidate's line in
+# that region, against the step; every line of `a`, among `labels`,
+# against `a`), at `alpha`; and they must predict left-out rows given it
+# (cv_gain(), as any named term: a line that differs from its step in one
+# row fits that row and predicts nothing). Of the simpler terms the line
 # does not beat, the one that explains most is named. Other terms are
 # returned as they are. `null_free`: the null residuals beyond
 # recalibration, with_totals(); `memo`: an environment that keeps the
@@ -139,7 +141,8 @@ simplest_region <- function(name, candidates, basis, mean_residual, null_free, a
     chances <- chances_given(alt, unique(c(name, alt$lines)), candidates, basis, mean_residual,
                              null_free, memo)
     null_max <- do.call(pmax, lapply(chances, `[[`, "null_z"))
-    (1 + sum(null_max >= chances[[1]]$z)) / (length(null_max) + 1) < alpha
+    (1 + sum(null_max >= chances[[1]]$z)) / (length(null_max) + 1) < alpha &&
+      cv_gain(mean_residual, cbind(basis, alt$columns), term_matrix(name, candidates)) > 0
   }, logical(1))
   if (all(beaten)) {
     return(name)

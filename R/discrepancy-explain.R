@@ -74,18 +74,21 @@
 #' the fraction by which adding it to the recalibration directions reduces
 #' the leave-one-out error of the posterior mean residual, is positive (a
 #' term that fits a few rows or the noise makes that error larger). The
-#' cut of a named region or hinge is then moved to where the data put the effect's
-#' edge: the candidate cuts are a coarse grid (few terms keep the test's
-#' power), so among the splits between consecutive field values of the
-#' input around the tested cut (up to half-way to the next candidate cuts),
-#' the one whose term explains the most of the posterior mean residual is
-#' named; its `share` and `cv_gain` are the refined term's, `z` and
-#' `p_value` the tested cut's. A line holds its region's step and nearly
+#' cut of a region or hinge beyond chance is first moved to where the data
+#' put the effect's edge: the candidate cuts are a coarse grid (few terms
+#' keep the test's power), so among the splits between consecutive field
+#' values of the input around the tested cut (up to half-way to the next
+#' candidate cuts), the one whose term explains the most of the posterior
+#' mean residual is named; its `share` and `cv_gain` are the refined
+#' term's (a grid cut with rows on the wrong side of the edge predicts
+#' them badly), `z` and `p_value` the tested cut's. The cross-validation
+#' only removes names: false alarms are held by the p-values alone. A line holds its region's step and nearly
 #' holds its candidate over all rows, so by share it would always win: a
 #' named line keeps its name only when it explains more than each of the
 #' two beyond chance (against the null residuals, the largest over the
-#' lines it was chosen among, at `alpha`), and is otherwise named as the
-#' simpler of the two that explains more. The
+#' lines it was chosen among, at `alpha`) and predicts left-out rows better
+#' than it, and is otherwise named as the simpler of the two that explains
+#' more. The
 #' verdict names the explaining candidate with the largest share, or says
 #' that none explains it: for a correct simulator, that happens in about
 #' `1 - alpha` of data sets (measured in `bench/bench-false-alarms.R` and
@@ -190,12 +193,14 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
     cv_gain(mean_residual, basis, terms[[l]], baseline, is_line(l), nuisance)
   }, numeric(1), USE.NAMES = FALSE)
   out$explains <- out$p_value < alpha & out$cv_gain > 0
-  # named regions get the cut the data put the edge at, and a line that
-  # beats no simpler term beyond chance is named as that term; the test
-  # stands (p_value and z are the grid term's), the rest is the named term's
+  # regions beyond chance get the cut the data put the edge at, and a line
+  # that beats no simpler term beyond chance is named as that term; the
+  # test stands (p_value and z are the grid term's), the rest is the named
+  # term's, its cross-validation too: a grid cut that leaves the edge's
+  # rows on the wrong side predicts them worse than the effect does
   region_labels <- names(terms)[family == "region"]
   memo <- new.env()
-  for (i in which(out$explains & family == "region")) {
+  for (i in which(out$p_value < alpha & family == "region")) {
     label <- simplest_region(refine_region(out$candidate[i], candidates, free, nuisance),
                              candidates, basis, mean_residual, null_free, alpha, main,
                              region_labels, memo)

@@ -33,6 +33,29 @@ test_that("an effect in part of another input's range is named with both inputs"
   expect_match(attr(ex, "verdict"), ex$candidate[1], fixed = TRUE)
 })
 
+test_that("a region beyond chance is cross-validated as the term it is named as", {
+  skip_on_cran()
+  # recomputed from the posterior mean residual and the recalibration
+  # basis: every region beyond chance, named or not, carries its named
+  # (refined) term's cv_gain, and explains exactly when that is positive
+  case <- synthetic_case("interaction")
+  ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, seed = 1)
+  g <- bayesbem:::explanation_geometry(case$base)
+  pars <- bayesbem:::draw_parameters(case$base, NULL)
+  residual <- bayesbem:::residuals_given_runs(g, pars)$residual
+  basis <- bayesbem:::recalibration_basis(-residual, do.call(rbind, lapply(pars, `[[`, "tf")))
+  table <- cbind(case$base$data$field[case$base$data$names$x], case$train_covariates)
+  region <- grepl(", where | [<>] |^max\\(", ex$candidate) & ex$p_value < 0.05
+  expect_gte(sum(region), 1)
+  for (i in which(region)) {
+    term <- bayesbem:::term_matrix(ex$candidate[i], table)
+    gain <- bayesbem:::cv_gain(colMeans(residual), basis, term,
+                               line = bayesbem:::is_line(ex$candidate[i]))
+    expect_equal(ex$cv_gain[i], gain, tolerance = 1e-8, label = ex$candidate[i])
+    expect_identical(ex$explains[i], gain > 0)
+  }
+})
+
 test_that("a correct simulator gets no cause in the large majority of data draws", {
   skip_on_cran()
   # four noise draws of data without a hidden effect, regions included;
@@ -417,7 +440,7 @@ test_that("a region-specific line is named only where it beats its step and its 
   # 36 rows; a step of 250 where rh > 47, or a line there (100 + 300 x
   # occupancy); null residuals of the noise's sd. The line always explains
   # at least as much as its step: the step is named unless the slope is
-  # beyond chance.
+  # beyond chance and predicts.
   withr::local_seed(4)
   n <- 36
   table <- data.frame(rh = round(stats::runif(n, 30, 60), 1), occupancy = stats::runif(n),
@@ -443,6 +466,20 @@ test_that("a region-specific line is named only where it beats its step and its 
   # it there, but beats occupancy alone by no more than chance
   everywhere <- 300 * table$occupancy + noise
   expect_identical(simplest("occupancy, where rh > 47", everywhere), "occupancy")
+  # a change that all but one row where rh > 47 come after: its line there
+  # differs from the step in that row, and a large residual in it makes
+  # the line beat the step beyond chance, but it predicts no left-out row
+  wet <- which(table$rh > 47)
+  table$after_change <- as.numeric(seq_len(n) >= min(wet[-1]))
+  main <- bayesbem:::main_terms(table)
+  labels <- names(bayesbem:::region_terms(table, table))
+  spike <- step + 60 * (seq_len(n) == wet[1])
+  expect_identical(sum(table$after_change[wet] == 0), 1L)
+  chances <- bayesbem:::chances_given(list(label = "rh > 47", columns = 1 * (table$rh > 47)),
+                                      "after_change, where rh > 47", table, basis, spike,
+                                      null_free, new.env())
+  expect_gt(chances[[1]]$z, max(chances[[1]]$null_z))
+  expect_identical(simplest("after_change, where rh > 47", spike), "rh > 47")
   # steps and hinges are left as they are
   expect_identical(simplest("rh > 47", line), "rh > 47")
   expect_identical(simplest("max(rh - 47, 0)", line), "max(rh - 47, 0)")
