@@ -82,14 +82,13 @@
 #' mean residual is named; its `share` and `cv_gain` are the refined
 #' term's (a grid cut with rows on the wrong side of the edge predicts
 #' them badly), `z` and `p_value` the tested cut's. The cross-validation
-#' only removes names: false alarms are held by the p-values alone. A line holds its region's step and nearly
-#' holds its candidate over all rows, so by share it would always win: a
-#' named line keeps its name only when it explains more than each of the
-#' two beyond chance (against the null residuals, the largest over the
-#' lines it was chosen among, at `alpha`) and predicts left-out rows better
-#' than it, and is otherwise named as the simpler of the two that explains
-#' more. The
-#' verdict names the explaining candidate with the largest share, or says
+#' only removes names: false alarms are held by the p-values alone. A line
+#' holds its region's step and nearly holds its candidate over all rows, so
+#' by share it would always win: a named line keeps its name only when it
+#' explains more than each of the two beyond chance (against the null
+#' residuals, the largest over the lines it was chosen among, at `alpha`)
+#' and predicts left-out rows better than it, and is otherwise named as the
+#' simpler of the two that explains more. The verdict names the explaining candidate with the largest share, or says
 #' that none explains it: for a correct simulator, that happens in about
 #' `1 - alpha` of data sets (measured in `bench/bench-false-alarms.R` and
 #' `bench/bench-diagnosis.R`). When another explaining candidate, a
