@@ -158,14 +158,12 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   main <- main_terms(candidates)
   terms <- c(main, if (regions) region_terms(candidates, data$field[data$names$x]))
   family <- rep(c("main", "region"), c(length(main), length(terms) - length(main)))
-  g <- explanation_geometry(fit)
-  pars <- draw_parameters(fit, ndraws)
-  given_runs <- residuals_given_runs(g, pars)
-  residual <- given_runs$residual
-  tf <- do.call(rbind, lapply(pars, `[[`, "tf"))
-  basis <- recalibration_basis(-residual, tf)
+  rg <- recalibration_geometry(fit, ndraws)
+  residual <- rg$given_runs$residual
+  basis <- rg$basis
   nuisance <- qr(basis)
-  null <- with_seed(seed, null_residuals(g, pars, given_runs, emulator_inflation(g, pars), n_null))
+  inflation <- emulator_inflation(rg$g, rg$pars)
+  null <- with_seed(seed, null_residuals(rg$g, rg$pars, rg$given_runs, inflation, n_null))
   mean_residual <- colMeans(residual)
   blocks <- jackknife_blocks(basis, mean_residual)
   free_draws <- with_totals(qr.resid(nuisance, t(residual)))

@@ -125,6 +125,19 @@ basis_inflation <- function(basis, folds = 10L) {
   max(1, mean(unlist(z2)))
 }
 
+# What explain_discrepancy() judges a term against: the geometry (`g`),
+# the posterior draws (`pars`, evenly spaced with `ndraws`), the field
+# residuals given the runs at each draw (`given_runs`, residuals_given_runs())
+# and the basis of what recalibration can do to them (`basis`).
+recalibration_geometry <- function(fit, ndraws = NULL) {
+  g <- explanation_geometry(fit)
+  pars <- draw_parameters(fit, ndraws)
+  given_runs <- residuals_given_runs(g, pars)
+  tf <- do.call(rbind, lapply(pars, `[[`, "tf"))
+  list(g = g, pars = pars, given_runs = given_runs,
+       basis = recalibration_basis(-given_runs$residual, tf))
+}
+
 # What recalibration can do to the output at the field rows (n columns of
 # a basis): a constant, the covariance of the eta draws (S x n) with each
 # column of the centred tf draws (S x q), and then with their squares and

@@ -280,11 +280,7 @@ effect_in_span <- function(st, problem, shape) {
     return(NA_real_)
   }
   effect <- effect[training_rows(st)]
-  ns <- asNamespace("bayesbem")
-  g <- ns$explanation_geometry(problem$base)
-  pars <- ns$draw_parameters(problem$base, NULL)
-  tf <- do.call(rbind, lapply(pars, `[[`, "tf"))
-  basis <- ns$recalibration_basis(-ns$residuals_given_runs(g, pars)$residual, tf)
+  basis <- asNamespace("bayesbem")$recalibration_geometry(problem$base)$basis
   1 - sum(qr.resid(qr(basis), effect)^2) / sum((effect - mean(effect))^2)
 }
 
