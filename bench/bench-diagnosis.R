@@ -334,6 +334,7 @@ one_problem <- function(st, shape, k) {
              cvrmse_before = before[["cvrmse"]], cvrmse_after = after[["cvrmse"]],
              covered_before = before[["covered"]], covered_after = after[["covered"]],
              parameters = length(truth), in_span = effect_in_span(st, problem, shape),
+             p_value = min(ex$p_value),
              redraws = redraws,
              redrawn_alarms = redrawn_alarms(st, problem, train_covariates, k, redraws))
 }
@@ -366,6 +367,10 @@ nulls <- out[out$shape == "none", ]
 if (nrow(nulls) > 0) {
   cat(sprintf("false alarms: %d of %d null data sets (%.1f %%)\n", sum(nulls$named != "nothing"),
               nrow(nulls), 100 * mean(nulls$named != "nothing")))
+  # exact p-values fall below a in at most a share a of the nulls
+  cat(sprintf("smallest adjusted p-value below 0.05 / 0.1 / 0.2: %d / %d / %d of %d\n",
+              sum(nulls$p_value < 0.05), sum(nulls$p_value < 0.1), sum(nulls$p_value < 0.2),
+              nrow(nulls)))
   if (sum(nulls$redraws) > 0) {
     cat(sprintf("false alarms given the fits: %d of %d noise draws (%.1f %%)\n",
                 sum(nulls$redrawn_alarms), sum(nulls$redraws),
