@@ -41,13 +41,12 @@ test_that("a region beyond chance is cross-validated as the term it is named as"
   case <- synthetic_case("interaction")
   ex <- explain_discrepancy(case$base, case$train_covariates, n_null = 500, seed = 1)
   rg <- bayesbem:::recalibration_geometry(case$base)
-  residual <- rg$given_runs$residual
   table <- cbind(case$base$data$field[case$base$data$names$x], case$train_covariates)
   region <- !ex$candidate %in% names(table) & ex$p_value < 0.05
   expect_gte(sum(region), 1)
   for (i in which(region)) {
     term <- bayesbem:::term_matrix(ex$candidate[i], table)
-    gain <- bayesbem:::cv_gain(colMeans(residual), rg$basis, term,
+    gain <- bayesbem:::cv_gain(colMeans(rg$given_runs$residual), rg$basis, term,
                                line = bayesbem:::is_line(ex$candidate[i]))
     expect_equal(ex$cv_gain[i], gain, tolerance = 1e-8, label = ex$candidate[i])
     expect_identical(ex$explains[i], gain > 0)
