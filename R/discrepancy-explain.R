@@ -88,8 +88,9 @@
 #' explains more than each of the two beyond chance (against the null
 #' residuals, the largest over the lines it was chosen among, at `alpha`)
 #' and predicts left-out rows better than it, and is otherwise named as the
-#' simpler of the two that explains more. The verdict names the explaining candidate with the largest share, or says
-#' that none explains it: for a correct simulator, that happens in about
+#' simpler of the two that explains more. The verdict names the
+#' explaining candidate with the largest share, or says that none explains
+#' it: for a correct simulator, that happens in about
 #' `1 - alpha` of data sets (measured in `bench/bench-false-alarms.R` and
 #' `bench/bench-diagnosis.R`). When another explaining candidate, a
 #' different cause, explains the same part of the residual (the two
