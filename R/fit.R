@@ -13,11 +13,13 @@
 #' @param sim The simulation data frame when `field` is a data frame.
 #' @param priors A [koh_priors()] object.
 #' @param chains,iter Number of Markov chains and iterations per chain
-#'   (including warm-up). By default 4000 iterations, and for a modular
-#'   fit of more than 36 field rows 2000 with the separable emulator and
-#'   3000 with the basis emulator (see `control`).
+#'   (including warm-up). By default 4000 iterations; for a modular fit of
+#'   more than 36 field rows 2000 with the separable emulator and 3000 with
+#'   the basis emulator and the product discrepancy; 1000 with the additive
+#'   discrepancy (see `discrepancy_kernel` and `control`).
 #' @param warmup Warm-up iterations per chain; defaults to half of `iter`,
-#'   and to 1000 in the default 3000 iterations of a basis fit.
+#'   except in the defaults of a basis fit: 1000 of its 3000 iterations
+#'   with the product discrepancy, 500 of 1000 with the additive one.
 #' @param seed Random seed; by default one is drawn and stored in the result
 #'   so the fit can be repeated.
 #' @param cores Number of chains run at once, each in its own process. By
@@ -32,7 +34,9 @@
 #'   the emulator's length scales and the fan / equipment ridge of building
 #'   models need to avoid divergent transitions and to mix; the dense
 #'   metric fits the straight ridge the basis fit samples (see `emulator`).
-#'   Each default is the one that converged most often in the reliability
+#'   The additive discrepancy's chains start at a mode, so they also take
+#'   `max_treedepth = 8` and a first metric after 25 warm-up iterations
+#'   (`adapt_init_buffer = 25`). Each default is the one that converged most often in the reliability
 #'   benchmark (`bench/RESULTS.md`, "Reliability").
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
@@ -429,12 +433,13 @@ inform_dense <- function(data, structure, asked) {
 fit_size <- function(data, structure, modular, iter, discrepancy_kernel = "product") {
   n <- vapply(output_data(data), `[[`, integer(1), "n")
   if (discrepancy_kernel == "additive") {
-    # a factor of the basis functions and components, whatever the rows
-    rows <- hsgp_design()$m * data$p + 10L
-    bytes <- 8 * sum(n) * rows + 8 * 6 * length(n) * rows^2
+    # a factor of each output's basis functions and components, whatever the rows
+    p <- vapply(output_data(data), `[[`, integer(1), "p")
+    rows <- hsgp_design()$m * p + 10L
+    bytes <- sum(8 * n * rows + 8 * 6 * rows^2)
     seconds <- fit_cost$gradients_per_iteration * iter *
-      fit_cost$seconds_per_cubed_row[["additive"]] * length(n) * rows^3
-    return(list(bytes = bytes, hours = seconds / 3600, rows = rows))
+      fit_cost$seconds_per_cubed_row[["additive"]] * sum(rows^3)
+    return(list(bytes = bytes, hours = seconds / 3600, rows = max(rows)))
   }
   if (structure == "dense") {
     rows <- data$n + data$m

@@ -129,9 +129,9 @@ eplus_simulator <- function(model = system.file("extdata", "seb_25_2.idf.gz", pa
   name <- sprintf("EnergyPlus %s: %s, %s by %s", model$version, basename(model$source),
                   paste(output, collapse = " and "),
                   if (is.null(periods)) by else sprintf("%d periods of the data", nrow(union_periods(periods))))
-  simulator(fun, x, parameters, name = name,
-            key = list(unname(tools::md5sum(weather)), model_files_md5(model)),
-            periods = weather_periods(summary))
+  new_simulator(fun, x, parameters, name = name,
+                key = list(unname(tools::md5sum(weather)), model_files_md5(model)),
+                periods = weather_periods(summary))
 }
 
 # `output` names one or more meters or output variables, each once.

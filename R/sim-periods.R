@@ -39,6 +39,49 @@ check_periods <- function(periods, arg = rlang::caller_arg(periods), call = rlan
   data.frame(start = days$start, end = days$end)
 }
 
+# A simulator's `periods`, one row per row of its inputs (`n`): days
+# (`Date`s, each period's first and last, checked as check_periods() does)
+# or instants (`POSIXct`, each period's start and the next's: an hour's
+# end is the next hour's start), in order, none backwards or overlapping.
+check_simulator_periods <- function(periods, n, call = rlang::caller_env()) {
+  if (!is.data.frame(periods) || !all(c("start", "end") %in% names(periods)) ||
+      nrow(periods) != n) {
+    abort_bayesbem(c("{.arg periods} must be a data frame with {.field start} and {.field end}, one row per row of {.arg x} ({n}).",
+                     x = "It is {describe_value(periods)}."),
+                   "periods", call = call)
+  }
+  if (!inherits(periods$start, "POSIXct")) {
+    days <- check_periods(periods, call = call)
+    return(cbind(days, periods[setdiff(names(periods), c("start", "end"))]))
+  }
+  if (!inherits(periods$end, "POSIXct") || anyNA(periods$start) || anyNA(periods$end)) {
+    abort_bayesbem(c("{.field start} and {.field end} of {.arg periods} must both be complete {.cls POSIXct} times.",
+                     i = "Give each period's start and the next period's start, e.g. an hour's and the next hour's."),
+                   "periods", call = call)
+  }
+  start <- as.numeric(periods$start)
+  end <- as.numeric(periods$end)
+  abort_rows <- function(rows, what, fix) {
+    rows <- utils::head(rows, 5)
+    abort_bayesbem(c("{cli::qty(length(rows))}Row{?s} {rows} of {.arg periods} {what}.", i = fix),
+                   "periods", call = call)
+  }
+  if (any(end <= start)) {
+    abort_rows(which(end <= start), "end{?s/} no later than {?it starts/they start}",
+               "Give each period's start as {.field start} and the next period's start as {.field end}.")
+  }
+  later <- seq_len(n)[-1]
+  if (any(start[later] < start[-n])) {
+    abort_rows(later[start[later] < start[-n]], "start{?s/} before the period above",
+               "Sort the periods by their start.")
+  }
+  if (any(start[later] < end[-n])) {
+    abort_rows(later[start[later] < end[-n]], "start{?s/} before the period above ends",
+               "Periods are separate readings: the next starts where the last ends, or later.")
+  }
+  periods
+}
+
 # A column of dates as Dates: Date, POSIXct (its calendar day) or
 # "YYYY-MM-DD" strings; anything else, or a missing date, names its rows.
 as_days <- function(v, col, arg, call) {

@@ -25,6 +25,8 @@
 #'   `start` and `end` (`Date`s, the first and last day, or for hours
 #'   `POSIXct`s, the hour's start and the next's); [field_hours()] matches
 #'   a meter's timestamps to them. The weather-driven simulators set it.
+#'   Periods backwards, out of order or overlapping are an error of class
+#'   `bayesbem_error_periods` naming the rows, as in [epw_weather()].
 #' @return An object of class `bayesbem_simulator`.
 #' @family simulation
 #' @export
@@ -41,13 +43,16 @@ simulator <- function(fun, x, parameters, name = "custom simulator", key = NULL,
     abort_bayesbem("{.arg fun} must be a function {.code fun(params, x)}.", "argument")
   }
   x <- as_numeric_table(x)
-  check_numeric_complete(x, names(x), "x")
-  if (!is.null(periods) && (!is.data.frame(periods) || !all(c("start", "end") %in% names(periods)) ||
-                            nrow(periods) != nrow(x))) {
-    abort_bayesbem(c("{.arg periods} must be a data frame with {.field start} and {.field end}, one row per row of {.arg x} ({nrow(x)}).",
-                     x = "It is {describe_value(periods)}."),
-                   "argument")
-  }
+  if (!is.null(periods)) periods <- check_simulator_periods(periods, nrow(x))
+  new_simulator(fun, x, parameters, name, key, periods)
+}
+
+# A simulator whose periods are those of its weather file, already checked
+# (a typical year's months come from several years, so they are in the
+# file's order rather than the calendar's).
+new_simulator <- function(fun, x, parameters, name, key, periods, call = rlang::caller_env()) {
+  x <- as_numeric_table(x, "x", call = call)
+  check_numeric_complete(x, names(x), "x", call = call)
   structure(list(fun = fun, x = x, parameters = check_parameter_table(parameters), name = name,
                  key = key, periods = periods),
             class = "bayesbem_simulator")
@@ -216,10 +221,10 @@ bem_simulator <- function(weather, parameters = bem_parameters(), building = bem
   }
   x <- weather_inputs(weather, !is.null(periods))
   fun <- function(params, x) bem_monthly(params, weather, building)[output]
-  simulator(one_or_outputs(fun, output), x, parameters,
-            name = paste0("embedded monthly building model, ", paste(output, collapse = " and "),
-                          " (kWh)"),
-            key = list(weather, building, output), periods = weather_periods(weather))
+  new_simulator(one_or_outputs(fun, output), x, parameters,
+                name = paste0("embedded monthly building model, ", paste(output, collapse = " and "),
+                              " (kWh)"),
+                key = list(weather, building, output), periods = weather_periods(weather))
 }
 
 # bem_simulator() by week, day or hour: the hourly model over the whole
@@ -242,10 +247,10 @@ bem_hourly_simulator <- function(path, parameters, building, output, by) {
     out <- bem_hourly(params, hourly, building)[output]
     if (by == "hour") out else as.data.frame(lapply(out, function(v) as.vector(tapply(v, period, sum))))
   }
-  simulator(one_or_outputs(fun, output), x, parameters,
-            name = sprintf("embedded hourly building model by %s, %s (kWh)", by,
-                           paste(output, collapse = " and ")),
-            key = list(hourly, building, output, by), periods = weather_periods(weather))
+  new_simulator(one_or_outputs(fun, output), x, parameters,
+                name = sprintf("embedded hourly building model by %s, %s (kWh)", by,
+                               paste(output, collapse = " and ")),
+                key = list(hourly, building, output, by), periods = weather_periods(weather))
 }
 
 # The inputs of a simulator by week, day or hour: the periods' mean

@@ -330,3 +330,34 @@ test_that("a year of hourly rows is prepared in bounded memory and refused up fr
   expect_equal(additive$rows, 40 * 3 + 10)
   expect_lt(additive$hours, 0.5)
 })
+
+test_that("the size check of a year of hours of two outputs says a number, and refuses only by it", {
+  skip_on_cran()
+  withr::local_seed(10)
+  hours <- 8760
+  x <- data.frame(temp = round(stats::rnorm(hours, 10, 8), 1), hour = rep(0:23, 365),
+                  day = rep(seq_len(365), each = 24))
+  design <- data.frame(k = stats::runif(30, 1, 2))
+  meter <- function(output, a, b) {
+    sim <- do.call(rbind, lapply(design$k, function(k) {
+      data.frame(output = output, eta = a * k * x$temp + b * x$hour, x, k = k)
+    }))
+    field <- data.frame(output = output, y = a * 1.5 * x$temp + b * x$hour + stats::rnorm(hours), x)
+    list(sim = sim, field = field)
+  }
+  elec <- meter("electricity", 1, 1)
+  gas <- meter("gas", -2, 0.1)
+  d <- koh_data(rbind(elec$field, gas$field), rbind(elec$sim, gas$sim))
+  expect_s3_class(d, "bayesbem_outputs")
+  size <- bayesbem:::fit_size(d, "grid", TRUE, 1000, "additive")
+  # one factor of 40 basis functions per input and 10 components, per output
+  expect_equal(size$rows, 40 * 3 + 10)
+  single <- bayesbem:::fit_size(d$outputs$gas, "grid", TRUE, 1000, "additive")
+  expect_equal(size$hours, 2 * single$hours)
+  expect_equal(size$bytes, 2 * single$bytes)
+  expect_null(bayesbem:::check_fit_size(size, 2, available = NA))
+  # calibrate() reaches the check with a number: refused only when the limit is below it
+  withr::local_options(bayesbem.max_hours = size$hours / 2)
+  expect_error(calibrate(d, chains = 2, seed = 1, progress = FALSE),
+               class = "bayesbem_error_too_large")
+})

@@ -55,3 +55,35 @@ test_that("output_simulator() gives one output of a simulator of several", {
   expect_match(attr(out, "failed")$error[1], "no output \"water\"", fixed = TRUE)
   expect_error(output_simulator("sim", "gas"), class = "bayesbem_error_argument")
 })
+
+test_that("simulator() checks its periods as epw_weather() does, naming the rows", {
+  fun <- function(params, x) params$a * x$temp
+  pars <- data.frame(parameter = "a", initial = 1, min = 0, max = 2)
+  x <- data.frame(temp = c(1, 2, 3))
+  days <- data.frame(start = as.Date(c("2013-01-01", "2013-02-01", "2013-03-01")),
+                     end = as.Date(c("2013-01-31", "2013-02-28", "2013-03-31")))
+  expect_equal(simulator(fun, x, pars, periods = days)$periods, days)
+  backwards <- days
+  backwards$end[2] <- as.Date("2013-01-15")
+  expect_error(simulator(fun, x, pars, periods = backwards), "Row 2", class = "bayesbem_error_periods")
+  overlapping <- days
+  overlapping$start[3] <- as.Date("2013-02-28")
+  expect_error(simulator(fun, x, pars, periods = overlapping), "Row 3 of `periods` overlaps",
+               class = "bayesbem_error_periods")
+  expect_error(simulator(fun, x, pars, periods = days[1:2, ]), "one row per row of `x` \\(3\\)",
+               class = "bayesbem_error_periods")
+  # hours: each period ends where the next starts
+  start <- as.POSIXct("2013-01-01 00:00", tz = "Etc/GMT+7") + 3600 * 0:2
+  hours <- data.frame(start = start, end = start + 3600)
+  expect_equal(simulator(fun, x, pars, periods = hours)$periods, hours)
+  late <- hours
+  late$start[3] <- late$start[3] - 1800
+  expect_error(simulator(fun, x, pars, periods = late), "Row 3 of `periods` starts before the period above ends",
+               class = "bayesbem_error_periods")
+  empty <- hours
+  empty$end[1] <- empty$start[1]
+  expect_error(simulator(fun, x, pars, periods = empty), "Row 1 of `periods` ends no later than it starts",
+               class = "bayesbem_error_periods")
+  expect_error(simulator(fun, x, pars, periods = hours[c(2, 1, 3), ]), "Row 2 of `periods` starts before the period above",
+               class = "bayesbem_error_periods")
+})
