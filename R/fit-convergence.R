@@ -158,3 +158,42 @@ print.bayesbem_convergence <- function(x, digits = 3, ...) {
   print(out, row.names = FALSE)
   invisible(x)
 }
+
+# Calibration parameters whose posterior piles against a limit of their
+# range (the runs' range, tf = 0 or 1, which bounds the prior): more than `share` of the draws
+# within `edge` of the range from it, where a posterior as flat as the
+# prior holds `edge` of them. One row per parameter and limit: `parameter`,
+# `limit` ("minimum", "maximum"), `value` (physical units), `share`.
+range_limits <- function(fit, edge = 0.02, share = 0.1) {
+  one <- output_fit_list(fit)[[1]]
+  scaling <- one$data$scaling
+  tf <- posterior::as_draws_matrix(posterior::subset_draws(one$draws, variable = "tf"))
+  rows <- lapply(seq_len(ncol(tf)), function(k) {
+    near <- c(minimum = mean(tf[, k] < edge), maximum = mean(tf[, k] > 1 - edge))
+    at <- names(near)[near > share]
+    if (length(at) == 0L) return(NULL)
+    data.frame(parameter = one$data$names$t[k], limit = at,
+               value = unscale_t1(ifelse(at == "minimum", 0, 1), scaling, k),
+               share = unname(near[at]))
+  })
+  do.call(rbind, c(list(data.frame(parameter = character(), limit = character(),
+                                   value = numeric(), share = numeric())), rows))
+}
+
+# The warning calibrate() raises when a posterior piles against a limit:
+# the data ask for a value the range excludes, or for a cause the model
+# lacks, which a parameter at its limit stands in for.
+warn_range_limits <- function(fit) {
+  piled <- range_limits(fit)
+  if (nrow(piled) == 0L) {
+    return(invisible(piled))
+  }
+  lines <- sprintf("%s at its %s, %s (%d %% of the draws within 2 %% of the range from it)",
+                   piled$parameter, piled$limit, format(signif(piled$value, 3)),
+                   round(100 * piled$share))
+  warn_bayesbem(c("{nrow(piled)} posterior{?s} pile{?s/} against a limit of the parameter's range:",
+                  stats::setNames(lines, rep("*", length(lines))),
+                  i = "The limit is the runs' range: if a value beyond it is physical, widen the parameter's range and rerun the design ({.fn design_lhs}); if not, the model lacks a cause the data show (see {.fn discrepancy} and {.fn explain_discrepancy}), and a parameter at its limit is not a calibrated value."),
+                "range_limit")
+  invisible(piled)
+}

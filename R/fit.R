@@ -197,6 +197,12 @@
 #'   `options(bayesbem.lapack = TRUE)` or `FALSE` overrides the choice, and
 #'   `fit$settings$lapack` records it: the two give the same log density to
 #'   rounding, but a seeded fit repeats exactly only with the same choice.
+#' @section Range limits: A calibration parameter whose posterior piles
+#'   against a limit of its range (more than 10 % of the draws within 2 % of
+#'   the range from it, five times what a flat posterior holds there) is a
+#'   warning of class `bayesbem_warning_range_limit` naming the parameter,
+#'   the limit and what to do: the data ask for a value the range excludes,
+#'   or for a cause the model lacks.
 #' @return An object of class `bayesbem_fit`, of one output or several: the
 #'   posterior draws of the Stan program's parameters (`draws`, a
 #'   [posterior::draws_array] on the program's scale; each output's own
@@ -293,6 +299,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                      moved_parameters(output_fit_list(fit)[[1]], attr(stanfit, "minor_tf")),
                      fit$settings$kept_moved)
   check_convergence(fit)
+  warn_range_limits(fit)
   fit
 }
 

@@ -20,18 +20,33 @@
 #' `bayesbem_warning_time_shift` that names it.
 #'
 #' Readings must be sorted and distinct, and the intervals of one length
-#' dividing the hour; an hour the meter covers only in part (a gap, the
-#' file's first or last hour) is left out with a message; readings outside
-#' the simulator's hours are an error. Each problem names the rows.
+#' dividing the hour; readings outside the simulator's hours are an error.
+#' Each problem names the rows.
+#'
+#' Meter exports store a missing reading in many ways. The readings that
+#' `rules` ([meter_rules()]) say stand for "missing" are left out, and so
+#' is an hour the meter then covers only in part (a gap, the export's first
+#' or last hour): one message (class
+#' `bayesbem_message_readings_left_out`) counts them by reason and names
+#' the first of each. Then the data's sufficiency ([data_sufficiency()]):
+#' a calendar month of the readings' span with fewer than `sufficiency` of
+#' its hours present (CalTRACK 2.0, 2.2.1.2: over 90 % of the hours of each
+#' calendar month) is an error of class `bayesbem_error_sufficiency` naming
+#' the months.
 #'
 #' @param simulator A `bayesbem_simulator` by hour (its `periods` hold each
 #'   hour's start).
 #' @param time The readings' timestamps, `POSIXct`.
 #' @param y The readings: energy per interval, in the simulator's units.
 #' @param stamps Whether a timestamp is the interval's `"start"` or `"end"`.
+#' @param rules What stands for a missing reading: [meter_rules()], or
+#'   `NULL` to take every reading as it is (a missing value is then an
+#'   error).
+#' @param sufficiency The share of each calendar month's hours (within the
+#'   readings' span) that must be present; 0 accepts any.
 #' @return A data frame with `y`, the simulator's observable inputs at
 #'   those hours and `time` (the hour's start), one row per hour the meter
-#'   covers.
+#'   covers; its attribute `"sufficiency"` is [data_sufficiency()]'s table.
 #' @family simulation
 #' @export
 #' @examples
@@ -44,16 +59,22 @@
 #' y <- use[floor(hours) + 1] / 4
 #' field <- field_hours(sim, time, y, stamps = "end")
 #' head(field)
-field_hours <- function(simulator, time, y, stamps = c("start", "end")) {
+field_hours <- function(simulator, time, y, stamps = c("start", "end"), rules = meter_rules(),
+                        sufficiency = 0.9) {
   check_simulator(simulator)
   stamps <- match_choice(stamps)
+  if (!is.null(rules) && !inherits(rules, "bayesbem_meter_rules")) {
+    abort_bayesbem("{.arg rules} must be {.fn meter_rules} or {.code NULL}, not {describe_value(rules)}.",
+                   "argument")
+  }
+  check_between(sufficiency, 0, 1)
   hours <- simulator$periods$start
   if (!inherits(hours, "POSIXct")) {
     abort_bayesbem(c("{.arg simulator} must simulate hours, with their times in {.field periods}.",
                      i = "Make it with {.code by = \"hour\"}, e.g. {.code bem_simulator(epw, by = \"hour\")}."),
                    "argument")
   }
-  step <- check_readings(time, y)
+  step <- check_readings(time, y, missing_allowed = !is.null(rules))
   # each reading's interval start, on the simulator's clock
   start <- as.numeric(time) - if (stamps == "end") step else 0
   hour_start <- as.numeric(hours)
@@ -66,24 +87,177 @@ field_hours <- function(simulator, time, y, stamps = c("start", "end")) {
                      i = "Keep the readings of the weather file's period, or simulate the readings' year."),
                    "periods")
   }
+  reason <- if (is.null(rules)) factor(rep(NA_character_, length(y))) else
+    missing_reasons(rules, y, start, step, attr(time, "tzone") %||% "")
   per_hour <- round(3600 / step)
+  hour_of <- factor(at, levels = seq_along(hours))
   counts <- tabulate(at, nbins = length(hours))
-  sums <- as.vector(tapply(y, factor(at, levels = seq_along(hours)), sum))
-  partial <- which(counts > 0L & counts < per_hour)
-  if (length(partial) > 0L) {
-    cli::cli_inform(c(i = "Left out {length(partial)} hour{?s} the meter covers only in part (the first: {format(hours[partial[1]], '%Y-%m-%d %H:%M %Z')})."),
-                    class = "bayesbem_message_partial_hours")
-  }
-  kept <- which(counts == per_hour)
+  kept_counts <- tabulate(at[is.na(reason)], nbins = length(hours))
+  sums <- as.vector(tapply(y[is.na(reason)], hour_of[is.na(reason)], sum))
+  partial <- which(counts > 0L & kept_counts < per_hour & kept_counts > 0L)
+  inform_left_out(reason, time, hours[partial])
+  kept <- which(kept_counts == per_hour)
   field <- data.frame(y = sums[kept], simulator$x[kept, , drop = FALSE], time = hours[kept],
                       row.names = NULL)
   check_time_shift(simulator, kept, field$y)
-  field
+  table <- data_sufficiency(field$time, c(hours[min(at)], hours[max(at)]))
+  check_sufficiency(table, sufficiency)
+  structure(field, sufficiency = table)
+}
+
+#' What stands for a missing reading in a meter export
+#'
+#' Exporters write a missing reading as `NA`, as a run of zeros, as a day
+#' of zeros, as a spike (a reading of a meter that restarted or caught up),
+#' or as a first or last reading that covers only part of its interval.
+#' Each rule names one of these; [field_hours()] leaves out the readings
+#' they catch and says how many, by reason.
+#'
+#' @param zero_hours A run of zero readings lasting at least this many
+#'   hours is missing (`Inf`: never; a gas meter of a building heated only
+#'   in winter reads zero for days on end).
+#' @param zero_days Whether a calendar day (in the readings' time zone)
+#'   whose readings sum to zero is missing.
+#' @param above_median A reading over this multiple of the median of the
+#'   positive readings is missing (`Inf`: never).
+#' @param edges Whether the export's first and last readings are missing
+#'   when under 70 % of the median reading at the same time of day (a
+#'   partial interval: an hour's reading that holds half of it).
+#' @return An object of class `bayesbem_meter_rules`.
+#' @family simulation
+#' @export
+#' @examples
+#' meter_rules()
+#' meter_rules(zero_hours = Inf, zero_days = FALSE)  # a gas meter
+meter_rules <- function(zero_hours = 24, zero_days = TRUE, above_median = 10, edges = TRUE) {
+  if (!is.numeric(zero_hours) || length(zero_hours) != 1L || !isTRUE(zero_hours > 0)) {
+    abort_bayesbem("{.arg zero_hours} must be a positive number of hours (or {.code Inf}), not {describe_value(zero_hours)}.",
+                   "argument")
+  }
+  if (!is.numeric(above_median) || length(above_median) != 1L || !isTRUE(above_median > 1)) {
+    abort_bayesbem("{.arg above_median} must be a number above 1 (or {.code Inf}), not {describe_value(above_median)}.",
+                   "argument")
+  }
+  check_bool(zero_days)
+  check_bool(edges)
+  structure(list(zero_hours = zero_hours, zero_days = zero_days, above_median = above_median,
+                 edges = edges),
+            class = "bayesbem_meter_rules")
+}
+
+#' @export
+print.bayesbem_meter_rules <- function(x, ...) {
+  rlang::check_dots_empty()
+  cat_lines("Missing meter readings:",
+            "  NA",
+            "  zeros for {x$zero_hours} hours or more in a row",
+            "{if (x$zero_days) '  a calendar day summing to zero' else ''}",
+            "  over {x$above_median} x the median positive reading",
+            "{if (x$edges) '  a first or last reading under 70 % of the median at its time of day' else ''}")
+  invisible(x)
+}
+
+# The reason each reading is missing by `rules`, NA for a reading kept:
+# the first rule that catches it, in the order of meter_rules()'s help.
+missing_reasons <- function(rules, y, start, step, zone) {
+  reason <- rep(NA_character_, length(y))
+  whys <- character()
+  mark <- function(rows, why) {
+    reason[rows & is.na(reason)] <<- why
+    whys <<- c(whys, why)
+  }
+  mark(is.na(y), "NA")
+  zero <- !is.na(y) & y == 0
+  runs <- rle(zero)
+  long <- runs$values & runs$lengths * step / 3600 >= rules$zero_hours
+  mark(rep(long, runs$lengths), sprintf("zero for %s hours or more in a row", format(rules$zero_hours)))
+  if (rules$zero_days) {
+    day <- format(as.POSIXct(start, origin = "1970-01-01", tz = zone), "%Y-%m-%d")
+    totals <- tapply(ifelse(is.na(y), 0, y), day, sum)
+    mark(day %in% names(totals)[totals == 0], "a day summing to zero")
+  }
+  typical <- stats::median(y[!is.na(y) & y > 0])
+  if (is.finite(typical)) mark(!is.na(y) & y > rules$above_median * typical,
+                               sprintf("over %s x the median reading", format(rules$above_median)))
+  if (rules$edges && length(y) > 2L) {
+    clock <- format(as.POSIXct(start, origin = "1970-01-01", tz = zone), "%H:%M")
+    for (i in c(1L, length(y))) {
+      same <- clock == clock[i] & seq_along(y) != i & !is.na(y)
+      if (!is.na(y[i]) && sum(same) > 0L && y[i] < 0.7 * stats::median(y[same])) {
+        mark(seq_along(y) == i, "a partial first or last reading")
+      }
+    }
+  }
+  factor(reason, levels = unique(whys))
+}
+
+# One message: the readings left out by reason (the first of each) and the
+# hours then covered only in part.
+inform_left_out <- function(reason, time, partial) {
+  if (all(is.na(reason)) && length(partial) == 0L) {
+    return(invisible())
+  }
+  stamp <- function(t) format(t, "%Y-%m-%d %H:%M %Z")
+  why <- table(reason)
+  why <- why[why > 0]
+  lines <- vapply(names(why), function(r) {
+    sprintf("%d reading%s: %s (the first %s)", why[[r]], if (why[[r]] > 1) "s" else "", r,
+            stamp(time[which(reason == r)[1]]))
+  }, character(1))
+  if (length(partial) > 0L) {
+    lines <- c(lines, sprintf("%d hour%s the meter then covers only in part (the first %s)",
+                              length(partial), if (length(partial) > 1) "s" else "", stamp(partial[1])))
+  }
+  cli::cli_inform(c(i = "Left out of the field data ({sum(!is.na(reason))} of {length(reason)} reading{?s} missing by {.fn meter_rules}):",
+                    stats::setNames(lines, rep("*", length(lines)))),
+                  class = "bayesbem_message_readings_left_out")
+}
+
+#' The share of each calendar month's hours present in a field table
+#'
+#' CalTRACK (2.0, section 2.2.1.2) calls hourly data sufficient for a
+#' baseline when over 90 % of the hours of each calendar month are
+#' present; [field_hours()] refuses a field table below its `sufficiency`.
+#'
+#' @param time The hours' starts, `POSIXct` (e.g. [field_hours()]'s `time`).
+#' @param span The first and last hour the data should cover (by default
+#'   those of `time`); months count their hours within it.
+#' @return A data frame with one row per calendar month of the span
+#'   (in `time`'s time zone): `month` (`"YYYY-MM"`), `hours` in the span,
+#'   `present` and their `share`.
+#' @family simulation
+#' @export
+#' @examples
+#' time <- as.POSIXct("2013-01-01", tz = "UTC") + 3600 * c(0:700, 800:1415)
+#' data_sufficiency(time)
+data_sufficiency <- function(time, span = range(time)) {
+  if (!inherits(time, "POSIXct") || length(time) == 0L || anyNA(time)) {
+    abort_bayesbem("{.arg time} must be complete {.cls POSIXct} hours, not {describe_value(time)}.",
+                   "argument")
+  }
+  zone <- attr(time, "tzone") %||% ""
+  all_hours <- seq(as.numeric(span[1]), as.numeric(span[2]), by = 3600)
+  month_of <- function(t) format(as.POSIXct(t, origin = "1970-01-01", tz = zone), "%Y-%m")
+  months <- unique(month_of(all_hours))
+  hours <- as.vector(table(factor(month_of(all_hours), levels = months)))
+  present <- as.vector(table(factor(month_of(unique(as.numeric(time))), levels = months)))
+  data.frame(month = months, hours = hours, present = present, share = present / hours)
+}
+
+check_sufficiency <- function(table, sufficiency, call = rlang::caller_env()) {
+  short <- table[table$share < sufficiency, , drop = FALSE]
+  if (nrow(short) == 0L) {
+    return(invisible())
+  }
+  abort_bayesbem(c("The meter covers too few hours of {nrow(short)} month{?s} to calibrate on.",
+                   x = "{paste0(short$month, ': ', round(100 * short$share), ' %', collapse = ', ')} of the hours (needed: {round(100 * sufficiency)} %).",
+                   i = "Train on months the meter covers, or lower {.arg sufficiency} (CalTRACK asks over 90 %); {.fn data_sufficiency} gives every month's share."),
+                 "sufficiency", call = call)
 }
 
 # Timestamps sorted, distinct, of one step dividing the hour; the
 # readings numeric and complete. Returns the step in seconds.
-check_readings <- function(time, y, call = rlang::caller_env()) {
+check_readings <- function(time, y, missing_allowed = FALSE, call = rlang::caller_env()) {
   if (!inherits(time, "POSIXct")) {
     abort_bayesbem(c("{.arg time} must be {.cls POSIXct} timestamps.",
                      x = "It is {.obj_type_friendly {time}}.",
@@ -94,7 +268,7 @@ check_readings <- function(time, y, call = rlang::caller_env()) {
     abort_bayesbem("{.arg y} must be one number per timestamp ({length(time)}), not {describe_value(y)}.",
                    "argument", call = call)
   }
-  bad <- which(is.na(time) | !is.finite(y))
+  bad <- which(is.na(time) | if (missing_allowed) is.infinite(y) else !is.finite(y))
   if (length(bad) > 0L) {
     abort_bayesbem(c("Readings without a time or a value.", x = "Row{?s} {utils::head(bad, 5)}.",
                      i = "Remove them, or fill them before calibrating."),

@@ -61,22 +61,26 @@ check_simulator_periods <- function(periods, n, call = rlang::caller_env()) {
   }
   start <- as.numeric(periods$start)
   end <- as.numeric(periods$end)
+  # `what`: the singular's and the plural's verb phrase
   abort_rows <- function(rows, what, fix) {
     rows <- utils::head(rows, 5)
+    what <- what[min(length(rows), 2L)]
     abort_bayesbem(c("{cli::qty(length(rows))}Row{?s} {rows} of {.arg periods} {what}.", i = fix),
                    "periods", call = call)
   }
   if (any(end <= start)) {
-    abort_rows(which(end <= start), "end{?s/} no later than {?it starts/they start}",
+    abort_rows(which(end <= start), c("ends no later than it starts", "end no later than they start"),
                "Give each period's start as {.field start} and the next period's start as {.field end}.")
   }
   later <- seq_len(n)[-1]
   if (any(start[later] < start[-n])) {
-    abort_rows(later[start[later] < start[-n]], "start{?s/} before the period above",
+    abort_rows(later[start[later] < start[-n]],
+               c("starts before the period above", "start before the periods above them"),
                "Sort the periods by their start.")
   }
   if (any(start[later] < end[-n])) {
-    abort_rows(later[start[later] < end[-n]], "start{?s/} before the period above ends",
+    abort_rows(later[start[later] < end[-n]],
+               c("starts before the period above ends", "start before the periods above them end"),
                "Periods are separate readings: the next starts where the last ends, or later.")
   }
   periods

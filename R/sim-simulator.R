@@ -11,6 +11,8 @@
 #'   simulator of several outputs (meters), a data frame with one named
 #'   column per output and one row per row of `x` ([simulate_design()] then
 #'   writes the long table with an `output` column that [koh_data()] takes).
+#'   With `weather`, `fun(params, x, days)`: `days` is the daily weather of
+#'   the periods (see `weather`).
 #' @param x A data frame of the observable inputs of each field period.
 #' @param parameters A parameter table (see [bem_parameters()]): every
 #'   parameter `fun` takes, with its initial value and range. Parameters a
@@ -27,6 +29,12 @@
 #'   a meter's timestamps to them. The weather-driven simulators set it.
 #'   Periods backwards, out of order or overlapping are an error of class
 #'   `bayesbem_error_periods` naming the rows, as in [epw_weather()].
+#' @param weather Optional, with `periods` of days (e.g. bills on their own
+#'   dates): the path of an EPW file whose days `fun` receives as its third
+#'   argument, `days`: [epw_weather()]'s daily table of the days the
+#'   periods hold, with `period`, the row of `x` each belongs to. A model
+#'   that acts day by day (heating degree-days from each day's mean
+#'   temperature) needs the days, not the periods' means.
 #' @return An object of class `bayesbem_simulator`.
 #' @family simulation
 #' @export
@@ -37,14 +45,53 @@
 #'                                          min = c(0, -5), max = c(2, 5)))
 #' lin
 #' simulate_design(lin, data.frame(a = c(0.5, 1.5)))
+#'
+#' # a heating degree-day model of bills on their own dates, day by day
+#' epw <- system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem")
+#' bills <- data.frame(start = as.Date(c("2013-01-05", "2013-02-04", "2013-03-06")),
+#'                     end = as.Date(c("2013-02-03", "2013-03-05", "2013-04-03")))
+#' degree_days <- function(params, x, days) {
+#'   heating <- params$ua * pmax(params$base - days$temp, 0) * 24 / 1000
+#'   as.vector(tapply(heating, days$period, sum)) + params$base_load * x$days
+#' }
+#' hdd <- simulator(degree_days, epw_weather(epw, periods = bills)[c("temp", "days")],
+#'                  data.frame(parameter = c("ua", "base", "base_load"),
+#'                             initial = c(200, 15, 20), min = c(50, 10, 5),
+#'                             max = c(400, 20, 40)),
+#'                  periods = bills, weather = epw)
+#' simulate_design(hdd, data.frame(ua = c(100, 300)))
 simulator <- function(fun, x, parameters, name = "custom simulator", key = NULL,
-                      periods = NULL) {
+                      periods = NULL, weather = NULL) {
   if (!is.function(fun)) {
     abort_bayesbem("{.arg fun} must be a function {.code fun(params, x)}.", "argument")
   }
   x <- as_numeric_table(x)
   if (!is.null(periods)) periods <- check_simulator_periods(periods, nrow(x))
+  if (!is.null(weather)) fun <- with_period_days(fun, periods, weather)
   new_simulator(fun, x, parameters, name, key, periods)
+}
+
+# `fun(params, x, days)` as a simulator's `fun(params, x)`: the days of a
+# weather file the periods hold (each with its `period`, the row of `x`).
+with_period_days <- function(fun, periods, weather, call = rlang::caller_env()) {
+  if (is.null(periods) || !inherits(periods$start, "Date")) {
+    abort_bayesbem(c("{.arg weather} needs {.arg periods} of days: each row's first and last day.",
+                     i = "E.g. {.code periods = bills}, a table of {.cls Date}s {.field start} and {.field end}."),
+                   "periods", call = call)
+  }
+  if (length(formals(fun)) < 3L && !"..." %in% names(formals(fun))) {
+    abort_bayesbem("With {.arg weather}, {.arg fun} must take the days as a third argument: {.code fun(params, x, days)}.",
+                   "argument", call = call)
+  }
+  days <- epw_weather(weather, by = "day")
+  ymd <- data.frame(year = as.integer(format(days$date, "%Y")),
+                    month = as.integer(format(days$date, "%m")),
+                    day = as.integer(format(days$date, "%d")))
+  period <- period_of_days(ymd, periods, weather, call)
+  days <- days[!is.na(period), setdiff(names(days), "end"), drop = FALSE]
+  days$period <- period[!is.na(period)]
+  rownames(days) <- NULL
+  function(params, x) fun(params, x, days)
 }
 
 # A simulator whose periods are those of its weather file, already checked
@@ -139,8 +186,9 @@ output_simulator <- function(simulator, output) {
     }
     values[[output]]
   }
-  simulator(one, simulator$x, simulator$parameters, name = paste0(simulator$name, ": ", output),
-            key = list(simulator_key(simulator), output), periods = simulator$periods)
+  # (the periods of meters read on other days overlap: each meter runs over all)
+  new_simulator(one, simulator$x, simulator$parameters, name = paste0(simulator$name, ": ", output),
+                key = list(simulator_key(simulator), output), periods = simulator$periods)
 }
 
 #' The embedded building model as a simulator

@@ -43,6 +43,14 @@ check_number <- function(x, type, positive = FALSE, arg = rlang::caller_arg(x),
   invisible(x)
 }
 
+# One number from `lower` to `upper`.
+check_between <- function(x, lower, upper, arg = rlang::caller_arg(x), call = rlang::caller_env()) {
+  if (!is.numeric(x) || length(x) != 1L || !isTRUE(x >= lower && x <= upper)) {
+    abort_bayesbem("{.arg {arg}} must be a number from {lower} to {upper}, not {describe_value(x)}.",
+                   "argument", call = call)
+  }
+}
+
 # Checks that `x` is one number strictly between 0 and 1 (a probability
 # level).
 check_probability <- function(x, arg = rlang::caller_arg(x), call = rlang::caller_env()) {

@@ -14,7 +14,7 @@ golden_tmy3 <- function() {
 }
 
 # Writes an EPW file: the 8 header lines of `template` and the given records.
-write_epw <- function(template, records) {
+epw_with_records <- function(template, records) {
   path <- tempfile(fileext = ".epw")
   writeLines(c(readLines(template, n = 8), records), path)
   path

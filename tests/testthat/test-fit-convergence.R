@@ -84,3 +84,32 @@ test_that("a fit that hits the maximum tree depth says so, and rstan's own warni
   expect_match(conditionMessage(warnings[[1]]), "hit the maximum tree depth \\(2\\)")
   expect_gt(attr(check_convergence(fit, warn = FALSE), "sampler")$treedepth_hits, 0)
 })
+
+test_that("a posterior piled against a limit of its range is named with the limit", {
+  # the case study's fan efficiency piles at the largest value the runs
+  # tried (on its reciprocal scale, the share of draws within 2 % of it)
+  limits <- bayesbem:::range_limits(seb_fit)
+  expect_equal(limits$parameter, "fan_total_efficiency")
+  expect_equal(limits$limit, "maximum")
+  expect_equal(limits$value, max(seb_fit$data$sim$fan_total_efficiency))
+  u <- posterior::as_draws_matrix(posterior::subset_draws(seb_fit$draws, variable = "tf[1]"))
+  expect_equal(limits$share, mean(u > 0.98))
+  expect_warning(bayesbem:::warn_range_limits(seb_fit), "fan_total_efficiency at its maximum, 0.816",
+                 class = "bayesbem_warning_range_limit")
+  # a quarter of the equipment's draws within 1 % of its minimum
+  piled <- seb_fit
+  arr <- unclass(posterior::as_draws_array(piled$draws))
+  draws <- length(arr[, , "tf[2]"])
+  arr[, , "tf[2]"] <- withr::with_seed(1, ifelse(seq_len(draws) %% 4 == 0, 0.01,
+                                                 stats::runif(draws, 0.3, 0.7)))
+  piled$draws <- posterior::as_draws_array(arr)
+  limits <- bayesbem:::range_limits(piled)
+  expect_equal(limits$parameter, c("fan_total_efficiency", "equipment_power_density"))
+  expect_equal(limits$limit, c("maximum", "minimum"))
+  expect_equal(limits$share[2], 0.25, tolerance = 0.01)
+  expect_equal(limits$value[2], min(seb_fit$data$sim$equipment_power_density))
+  # a flat posterior is not piled
+  arr[, , "tf[2]"] <- withr::with_seed(2, stats::runif(draws))
+  piled$draws <- posterior::as_draws_array(arr)
+  expect_equal(bayesbem:::range_limits(piled)$parameter, "fan_total_efficiency")
+})

@@ -307,13 +307,21 @@ test_that("a fit too large for the machine's memory or time is refused before it
   expect_null(bayesbem:::check_fit_size(slow, 2, available = NA))
 })
 
+# A year of hourly inputs, temperatures to 0.1 C, and 30 runs of one parameter.
+hourly_year <- function() {
+  hours <- 8760
+  list(x = data.frame(temp = round(stats::rnorm(hours, 10, 8), 1), hour = rep(0:23, 365),
+                      day = rep(seq_len(365), each = 24)),
+       design = data.frame(k = stats::runif(30, 1, 2)), hours = hours)
+}
+
 test_that("a year of hourly rows is prepared in bounded memory and refused up front", {
   skip_on_cran()
   withr::local_seed(9)
-  hours <- 8760
-  x <- data.frame(temp = round(stats::rnorm(hours, 10, 8), 1), hour = rep(0:23, 365),
-                  day = rep(seq_len(365), each = 24))
-  design <- data.frame(k = stats::runif(30, 1, 2))
+  year <- hourly_year()
+  x <- year$x
+  design <- year$design
+  hours <- year$hours
   sim <- do.call(rbind, lapply(design$k, function(k) data.frame(eta = k * x$temp + x$hour, x, k = k)))
   field <- data.frame(y = 1.5 * x$temp + x$hour + stats::rnorm(hours), x)
   d <- koh_data(field, sim)
@@ -334,10 +342,10 @@ test_that("a year of hourly rows is prepared in bounded memory and refused up fr
 test_that("the size check of a year of hours of two outputs says a number, and refuses only by it", {
   skip_on_cran()
   withr::local_seed(10)
-  hours <- 8760
-  x <- data.frame(temp = round(stats::rnorm(hours, 10, 8), 1), hour = rep(0:23, 365),
-                  day = rep(seq_len(365), each = 24))
-  design <- data.frame(k = stats::runif(30, 1, 2))
+  year <- hourly_year()
+  x <- year$x
+  design <- year$design
+  hours <- year$hours
   meter <- function(output, a, b) {
     sim <- do.call(rbind, lapply(design$k, function(k) {
       data.frame(output = output, eta = a * k * x$temp + b * x$hour, x, k = k)

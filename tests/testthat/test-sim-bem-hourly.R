@@ -86,12 +86,12 @@ test_that("hourly weather is every record, dated in the file's standard time", {
   expect_equal(as.vector(tapply(w$temp, w$month, mean)), epw_monthly(epw)$temp)
   # a typical year takes its weekdays from the header
   records <- readLines(epw)[-(1:8)]
-  tmy <- write_epw(epw, sub("^2013,1,", "1999,1,", records))
+  tmy <- epw_with_records(epw, sub("^2013,1,", "1999,1,", records))
   expect_equal(epw_weather(tmy, by = "hour")$weekday[1], 7)  # "Sunday" in the header
   # missing values stop an hourly model
   first <- strsplit(records[1], ",")[[1]]
   first[7] <- "99.9"
-  gap <- write_epw(epw, c(paste(first, collapse = ","), records[-1]))
+  gap <- epw_with_records(epw, c(paste(first, collapse = ","), records[-1]))
   expect_error(epw_weather(gap, by = "hour"), class = "bayesbem_error_weather")
 })
 

@@ -61,7 +61,7 @@ test_that("a weather file holding 29 February runs as a leap year, its model unt
   dir <- withr::local_tempdir()
   template <- shipped_epw(2013)
   records <- c("2012,2,28,1,60,fields", "2012,2,29,1,60,fields", "2012,3,1,1,60,fields")
-  leap <- write_epw(template, records)
+  leap <- epw_with_records(template, records)
   model <- list(json = list(RunPeriod = list(
     `Run Period 1` = list(begin_month = 1, begin_day_of_month = 1),
     `Run Period 2` = list(begin_month = 1, begin_year = 2011))))
@@ -73,7 +73,7 @@ test_that("a weather file holding 29 February runs as a leap year, its model unt
   # a run period with a year of its own is the modeller's choice
   expect_equal(out$model$json$RunPeriod$`Run Period 2`, model$json$RunPeriod$`Run Period 2`)
   # a file without the day is used as it is
-  plain <- write_epw(template, records[-2])
+  plain <- epw_with_records(template, records[-2])
   expect_identical(leap_day_setup(model, plain, dir), list(model = model, weather = plain))
 })
 

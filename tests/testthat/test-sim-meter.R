@@ -32,8 +32,9 @@ test_that("15-minute readings stamped at their end sum to the simulator's hours,
   expect_equal(format(field$time[1], "%H:%M"), "00:00")
   expect_equal(nrow(field), 4 * 24)
   # an hour covered in part is left out, with a message
-  expect_message(part <- field_hours(sim, time[-1], y[-1], stamps = "end"), "1 hour",
-                 class = "bayesbem_message_partial_hours")
+  expect_message(part <- field_hours(sim, time[-1], y[-1], stamps = "end"),
+                 "1 hour the meter then covers only in part",
+                 class = "bayesbem_message_readings_left_out")
   expect_equal(part, field[-1, ], ignore_attr = TRUE)
 })
 
@@ -66,7 +67,53 @@ test_that("bad readings are classed errors that name the rows", {
     field_hours(bem_simulator(shipped_epw(2013)), time, y)
   })
   expect_error(field_hours(sim, time, y[-1]), class = "bayesbem_error_argument")
-  expect_error(field_hours(sim, time, replace(y, 2, NA)), class = "bayesbem_error_missing")
+  expect_error(field_hours(sim, time, replace(y, 2, NA), rules = NULL),
+               class = "bayesbem_error_missing")
+  expect_error(field_hours(sim, time, y, rules = list()), class = "bayesbem_error_argument")
+})
+
+test_that("readings that stand for missing are left out, counted by reason in one message", {
+  truth <- hourly_truth()
+  sim <- truth$sim
+  # four weeks of hourly readings in November, stamped at their start
+  time <- as.POSIXct("2013-11-01 00:00", tz = "Etc/GMT+7") + 3600 * (0:(24 * 28 - 1))
+  use <- truth$use[hour_of(sim, time)]
+  y <- use
+  y[1] <- use[1] / 2                       # the export's first hour: half a reading
+  y[50:52] <- NA                           # missing
+  y[24 * 10 + 1:24] <- 0                   # a day of zeros (11 November)
+  y[24 * 20 + 3:8] <- 0                    # six hours of zeros: kept at zero_hours = 24
+  y[400] <- 50 * stats::median(use)        # a spike
+  expect_snapshot(field <- field_hours(sim, time, y))
+  kept <- hour_of(sim, field$time)
+  left_out <- c(1, 50:52, 24 * 10 + 1:24, 400)
+  expect_setequal(setdiff(hour_of(sim, time), kept), hour_of(sim, time)[left_out])
+  expect_equal(field$y, y[-left_out])
+  # the same readings, with the zero runs kept and a shorter zero rule
+  rules <- meter_rules(zero_hours = 6, zero_days = FALSE, above_median = Inf, edges = FALSE)
+  expect_message(other <- field_hours(sim, time, y, rules = rules),
+                 "30 readings: zero for 6 hours or more in a row",
+                 class = "bayesbem_message_readings_left_out")
+  expect_equal(nrow(other), length(time) - 3 - 30)
+  expect_output(print(meter_rules()), "over 10 x the median positive reading")
+  expect_error(meter_rules(zero_hours = 0), class = "bayesbem_error_argument")
+  expect_error(meter_rules(above_median = "10"), class = "bayesbem_error_argument")
+})
+
+test_that("a month the meter covers too little is refused, as CalTRACK's sufficiency", {
+  truth <- hourly_truth()
+  sim <- truth$sim
+  time <- as.POSIXct("2013-01-01 00:00", tz = "Etc/GMT+7") + 3600 * (0:(24 * 59 - 1))
+  y <- truth$use[hour_of(sim, time)]
+  y[24 * 40 + 1:(24 * 5)] <- NA            # five days of February missing: 82 % present
+  expect_error(suppressMessages(field_hours(sim, time, y)), "2013-02: 82 %",
+               class = "bayesbem_error_sufficiency")
+  field <- suppressMessages(field_hours(sim, time, y, sufficiency = 0.8))
+  expect_equal(attr(field, "sufficiency"),
+               data.frame(month = c("2013-01", "2013-02"), hours = c(744, 672),
+                          present = c(744, 672 - 120), share = c(1, 552 / 672)))
+  expect_equal(data_sufficiency(field$time), attr(field, "sufficiency"))
+  expect_error(data_sufficiency("2013-01-01"), class = "bayesbem_error_argument")
 })
 
 test_that("hours of meter data calibrate, the truth inside the posterior", {

@@ -45,7 +45,7 @@ test_that("a typical year is matched by month and day, over the year's end too",
   # a typical-year file: the 2013 records with January from 1999
   records <- readLines(shipped_epw(2013))[-(1:8)]
   records <- sub("^2013,1,", "1999,1,", records)
-  tmy <- write_epw(shipped_epw(2013), records)
+  tmy <- epw_with_records(shipped_epw(2013), records)
   winter <- data.frame(start = as.Date("2019-12-16"), end = as.Date("2020-01-14"))
   w <- epw_weather(tmy, periods = winter)
   hourly <- bayesbem:::read_epw_hourly(tmy)

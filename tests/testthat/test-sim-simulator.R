@@ -87,3 +87,35 @@ test_that("simulator() checks its periods as epw_weather() does, naming the rows
   expect_error(simulator(fun, x, pars, periods = hours[c(2, 1, 3), ]), "Row 2 of `periods` starts before the period above",
                class = "bayesbem_error_periods")
 })
+
+test_that("an R function receives the days of bills on their own dates", {
+  epw <- shipped_epw(2013)
+  bills <- data.frame(start = as.Date(c("2013-01-05", "2013-02-04", "2013-03-10")),
+                      end = as.Date(c("2013-02-03", "2013-03-05", "2013-04-03")))
+  degree_days <- function(params, x, days) {
+    as.vector(tapply(pmax(params$base - days$temp, 0), days$period, sum))
+  }
+  pars <- data.frame(parameter = "base", initial = 15, min = 10, max = 20)
+  x <- epw_weather(epw, periods = bills)[c("temp", "days")]
+  sim <- simulator(degree_days, x, pars, periods = bills, weather = epw)
+  runs <- simulate_design(sim, data.frame(base = c(12, 18)))
+  # by hand: each day's mean of its 24 records, from the file's own lines
+  records <- utils::read.csv(epw, skip = 8, header = FALSE)
+  date <- as.Date(sprintf("%d-%02d-%02d", records$V1, records$V2, records$V3))
+  daily <- tapply(records$V7, date, mean)
+  for (base in c(12, 18)) {
+    expected <- vapply(seq_len(nrow(bills)), function(i) {
+      in_bill <- as.Date(names(daily)) >= bills$start[i] & as.Date(names(daily)) <= bills$end[i]
+      sum(pmax(base - daily[in_bill], 0))
+    }, numeric(1))
+    expect_equal(runs$eta[runs$base == base], expected)
+  }
+  # a period beyond the file, days without periods, a function without days
+  late <- bills
+  late$end[3] <- as.Date("2014-01-10")
+  expect_error(simulator(degree_days, x, pars, periods = late, weather = epw),
+               "Period 3", class = "bayesbem_error_periods")
+  expect_error(simulator(degree_days, x, pars, weather = epw), class = "bayesbem_error_periods")
+  expect_error(simulator(function(params, x) x$temp, x, pars, periods = bills, weather = epw),
+               "third argument", class = "bayesbem_error_argument")
+})

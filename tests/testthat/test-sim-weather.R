@@ -32,10 +32,10 @@ test_that("leap days and missing-value codes are handled", {
   first[7] <- "99.9"
   first[9] <- "999"
   records[1] <- paste(first, collapse = ",")
-  w <- epw_monthly(write_epw(shipped_epw(2013), records))
+  w <- epw_monthly(epw_with_records(shipped_epw(2013), records))
   expect_equal(w$hours[2], 29 * 24)
   expect_equal(w$days[2], 29)
-  hourly <- bayesbem:::read_epw_hourly(write_epw(shipped_epw(2013), records))
+  hourly <- bayesbem:::read_epw_hourly(epw_with_records(shipped_epw(2013), records))
   expect_true(is.na(hourly$temp[1]))
   expect_equal(w$temp[1], mean(hourly$temp[hourly$month == 1], na.rm = TRUE))
   expect_false(anyNA(w))
