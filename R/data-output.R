@@ -308,7 +308,7 @@ shared_input_runs <- function(sim, cols, xf, call = rlang::caller_env()) {
   spread <- max(tapply(eta, group, function(e) diff(range(e)))) / stats::sd(eta)
   shared <- which(duplicated(field_keys))
   cli::cli_inform(c(i = "{length(shared)} field period{?s} share{?s/} {?its/their} inputs with an earlier one (row{?s} {shared}): each run's outputs at those periods are averaged, the emulator's one output per input.",
-                    " " = "They differ by up to {signif(100 * spread, 2)}% of the runs' sd; if that matters, add an input that tells such periods apart (e.g. the previous day's mean temperature)."),
+                    " " = "They differ by up to {signif(100 * spread, 2)}% of the runs' sd; if that matters, add an input that tells such periods apart: the heat the building stored, e.g. the previous day's mean temperature ({.fn with_lagged_temperature} on an hourly simulator)."),
                   class = "bayesbem_message_shared_inputs")
   merged <- sim[!duplicated(group), , drop = FALSE]
   merged[[cols$eta]] <- as.vector(tapply(eta, group, mean))

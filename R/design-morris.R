@@ -20,7 +20,9 @@
 #' @return A data frame of class `bayesbem_morris`, ranked by `mu_star`:
 #'   `parameter`, `mu_star`, `mu`, `sigma`, `rank` (and `period` for
 #'   `effects_on = "period"`, where the rank is that of the mean `mu_star` over
-#'   periods).
+#'   periods). A simulator of several outputs (meters) is ranked output by
+#'   output, each relative to its own mean, in rows with a first column
+#'   `output`: a parameter that drives gas may not touch electricity.
 #' @family design
 #' @export
 #' @examples
@@ -53,24 +55,38 @@ screen_morris <- function(simulator, parameters = simulator$parameters, r = 10, 
     abort_bayesbem("Morris screening needs every run; {nrow(attr(table, 'failed'))} failed.",
                    "simulation")
   }
-  runs <- matrix(table$eta, nrow = nrow(x), byrow = TRUE)
-  runs <- runs / mean(runs)
-  if (effects_on == "total") {
-    effects <- morris_effects(design, rowSums(runs) / ncol(runs))
-    out <- data.frame(parameter = params$parameter, effects)
+  if (is.null(table$output)) {
+    out <- morris_table(design, table$eta, nrow(x), params$parameter, effects_on)
   } else {
-    per_period <- lapply(seq_len(ncol(runs)), function(j) {
-      data.frame(parameter = params$parameter, period = j, morris_effects(design, runs[, j]))
-    })
-    out <- do.call(rbind, per_period)
+    # each meter ranked on its own output (the scales of electricity and gas
+    # are not comparable), the rows of each output together
+    outputs <- unique(table$output)
+    out <- do.call(rbind, lapply(outputs, function(k) {
+      cbind(output = k, morris_table(design, table$eta[table$output == k], nrow(x),
+                                     params$parameter, effects_on))
+    }))
   }
-  mean_mu_star <- tapply(out$mu_star, out$parameter, mean)[params$parameter]
-  order_k <- order(-mean_mu_star)
-  out$rank <- match(out$parameter, params$parameter[order_k])
-  out <- out[order(out$rank, out$period %||% rep(0, nrow(out))), ]
   rownames(out) <- NULL
   class(out) <- c("bayesbem_morris", "data.frame")
   out
+}
+
+# The effects of one output (`eta`, the runs' outputs in the order of the
+# design's rows, each run's periods together), ranked by the mean mu* over
+# periods.
+morris_table <- function(design, eta, runs, parameters, effects_on) {
+  runs <- matrix(eta, nrow = runs, byrow = TRUE)
+  runs <- runs / mean(runs)
+  if (effects_on == "total") {
+    out <- data.frame(parameter = parameters, morris_effects(design, rowSums(runs) / ncol(runs)))
+  } else {
+    out <- do.call(rbind, lapply(seq_len(ncol(runs)), function(j) {
+      data.frame(parameter = parameters, period = j, morris_effects(design, runs[, j]))
+    }))
+  }
+  mean_mu_star <- tapply(out$mu_star, out$parameter, mean)[parameters]
+  out$rank <- match(out$parameter, parameters[order(-mean_mu_star)])
+  out[order(out$rank, out$period %||% rep(0, nrow(out))), ]
 }
 
 morris_effects <- function(design, y) {

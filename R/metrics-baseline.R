@@ -7,8 +7,8 @@
 #' of the week (in the building's clock, `time`'s time zone) is one
 #' indicator; the outdoor temperature enters piecewise linearly between
 #' knots (by default 40, 55, 65, 80 and 90 F, in C; a knot beyond which
-#' fewer than 20 training hours lie is dropped); and occupied and
-#' unoccupied hours of the week are fitted apart (an hour of the week is
+#' fewer than 20 training hours of its mode lie is dropped); and occupied
+#' and unoccupied hours of the week are fitted apart (an hour of the week is
 #' occupied when a regression of the load on temperature, hinged at 50 and
 #' 65 F, underpredicts it in more than 65 % of its hours).
 #'
@@ -33,7 +33,8 @@
 #'   data, or `"all"` for one model of every hour.
 #' @return An object of class `bayesbem_towt`: the regression of each mode
 #'   (`models`, [stats::lm()] fits), the occupied hours of the week
-#'   (`occupied`, a logical vector of 168 from Monday 0:00), the knots kept,
+#'   (`occupied`, a logical vector of 168 from Monday 0:00), each mode's
+#'   knots kept (`knots`),
 #'   the residuals' `rmse`, `rho` and `p`, and the time zone.
 #' @references Mathieu, J. L., Price, P. N., Kiliccote, S. and Piette, M. A.
 #'   (2011). Quantifying changes in building electricity use, with
@@ -63,15 +64,17 @@ towt_baseline <- function(field, knots = celsius(c(40, 55, 65, 80, 90)),
   }
   zone <- attr(field$time, "tzone") %||% ""
   week_hour <- hour_of_week(field$time, zone)
-  knots <- towt_knots(field$temp, knots)
   occupied <- if (occupancy == "auto") occupied_hours(field$y, field$temp, week_hour) else
     rep(TRUE, 168L)
   mode <- occupied[week_hour + 1L]
-  models <- lapply(list(occupied = TRUE, unoccupied = FALSE), function(m) {
-    rows <- mode == m
-    if (any(rows)) stats::lm(y ~ ., data = towt_frame(field[rows, ], week_hour[rows], knots))
+  # each mode's knots are those its own hours reach
+  modes <- Filter(function(m) any(mode == m), list(occupied = TRUE, unoccupied = FALSE))
+  knots <- lapply(modes, function(m) towt_knots(field$temp[mode == m], knots))
+  models <- lapply(names(modes), function(m) {
+    rows <- mode == modes[[m]]
+    stats::lm(y ~ ., data = towt_frame(field[rows, ], week_hour[rows], knots[[m]]))
   })
-  models <- Filter(Negate(is.null), models)
+  names(models) <- names(modes)
   residuals <- numeric(nrow(field))
   for (m in names(models)) residuals[mode == (m == "occupied")] <- stats::residuals(models[[m]])
   p <- sum(vapply(models, function(fit) fit$rank, integer(1)))
@@ -101,15 +104,15 @@ predict.bayesbem_towt <- function(object, newdata, by = NULL, level = 0.9, ...) 
   check_probability(level)
   week_hour <- hour_of_week(newdata$time, object$zone)
   mode <- object$occupied[week_hour + 1L]
-  frame <- towt_frame(newdata, week_hour, object$knots)
   mean <- sd <- half <- numeric(nrow(newdata))
   t <- function(df) stats::qt(interval_probs(level)[2], df)
   for (m in names(object$models)) {
     rows <- mode == (m == "occupied")
     if (!any(rows)) next
     model <- object$models[[m]]
-    check_hours_seen(frame$hour[rows], model, m)
-    p <- stats::predict(model, frame[rows, , drop = FALSE], se.fit = TRUE)
+    frame <- towt_frame(newdata[rows, , drop = FALSE], week_hour[rows], object$knots[[m]])
+    check_hours_seen(frame$hour, model, m)
+    p <- stats::predict(model, frame, se.fit = TRUE)
     mean[rows] <- p$fit
     sd[rows] <- sqrt(p$se.fit^2 + p$residual.scale^2)
     half[rows] <- t(p$df) * sd[rows]
@@ -144,7 +147,7 @@ print.bayesbem_towt <- function(x, ...) {
   rlang::check_dots_empty()
   cat_lines("TOWT baseline (time of week and temperature) of {x$n} hours, {x$p} coefficients",
             "  occupied hours of the week: {sum(x$occupied)} of 168",
-            "  temperature knots (C): {paste(format(round(x$knots, 1)), collapse = ', ')}",
+            "  temperature knots (C): {paste(names(x$knots), vapply(x$knots, function(k) paste(format(round(k, 1)), collapse = ', '), character(1)), sep = ' ', collapse = '; ')}",
             "  CV(RMSE) {format(round(100 * x$rmse / x$mean, 1))} %, residuals' lag-1 autocorrelation {format(round(x$rho, 2))}")
   invisible(x)
 }

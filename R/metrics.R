@@ -226,3 +226,82 @@ measured_periods <- function(measured, n, arg = rlang::caller_arg(measured),
   }
   which(!is.na(measured))
 }
+
+#' The calibrated simulator beside the M&V regression on held-out hours
+#'
+#' Judges a calibration against the regression an M&V programme would use
+#' otherwise ([towt_baseline()], fitted on the same training hours), on the
+#' same held-out periods: each prediction's [cvrmse()] and [nmbe()] and
+#' the share of the measured values inside its central `level` interval,
+#' hour by hour and for each calendar month's total of the measured
+#' hours. The calibrated simulator predicts through the simulator rerun at
+#' `ndraws` posterior draws, with its noise ([predict_scenario()]); its
+#' intervals are the order statistics of the draws, and a month's total is
+#' the sum of its hours draw by draw. The baseline's hourly intervals are
+#' its least-squares prediction intervals, its monthly ones Guideline 14's.
+#'
+#' @param fit A `bayesbem_fit` of hourly data (of one output: give
+#'   [output_fit()] of a fit on several).
+#' @param baseline A [towt_baseline()] fitted on the training hours.
+#' @param newdata A simulator by hour (or a [scenario()] of one) of the
+#'   held-out hours; its `temp` and period starts are the baseline's inputs.
+#' @param obs The measured use of each of its hours (`NA` where none).
+#' @template args-level
+#' @param ndraws Number of posterior draws the simulator runs at.
+#' @template args-cache-dir
+#' @return A data frame (class `bayesbem_metrics`): `prediction`
+#'   (`"calibrated"`, `"baseline"`), `by` (`"hour"`, `"month"`), `n`,
+#'   `cvrmse`, `nmbe` (percent) and `coverage` (share of `obs` inside the
+#'   `level` interval).
+#' @family metrics
+#' @export
+compare_baseline <- function(fit, baseline, newdata, obs, level = 0.9, ndraws = 40,
+                             cache_dir = NULL) {
+  check_fit(fit)
+  if (is_several(fit)) {
+    abort_bayesbem(c("{.arg fit} has several outputs; compare one at a time.",
+                     i = "Give {.code output_fit(fit, \"{names(fit$outputs)[1]}\")} and that meter's baseline."),
+                   "argument")
+  }
+  if (!inherits(baseline, "bayesbem_towt")) {
+    abort_bayesbem("{.arg baseline} must be a {.fn towt_baseline}, not {describe_value(baseline)}.",
+                   "argument")
+  }
+  check_probability(level)
+  scenario <- as_scenario(newdata, arg = "newdata")
+  hours <- scenario$simulator$periods$start
+  if (!inherits(hours, "POSIXct") || is.null(scenario$simulator$x$temp)) {
+    abort_bayesbem("{.arg newdata} must simulate hours with a {.field temp} input, e.g. {.code bem_simulator(epw, by = \"hour\")}.",
+                   "argument")
+  }
+  rows <- measured_periods(obs, length(hours))
+  draws <- predict_scenario(fit, scenario, ndraws = ndraws, noise = TRUE,
+                            cache_dir = cache_dir)$y[, rows, drop = FALSE]
+  inputs <- data.frame(temp = scenario$simulator$x$temp[rows], time = hours[rows])
+  towt <- list(hour = stats::predict(baseline, inputs, level = level),
+               month = stats::predict(baseline, inputs, by = "month", level = level))
+  month <- format(hours[rows], "%Y-%m", tz = baseline$zone)
+  month_draws <- vapply(unique(month), function(m) rowSums(draws[, month == m, drop = FALSE]),
+                        numeric(nrow(draws)))
+  calibrated <- list(hour = draws, month = matrix(month_draws, nrow = nrow(draws)))
+  measured <- list(hour = obs[rows], month = as.vector(tapply(obs[rows], factor(month, unique(month)), sum)))
+  bounds <- quantile_names(interval_probs(level))
+  out <- do.call(rbind, lapply(c("hour", "month"), function(by) {
+    intervals <- column_intervals(calibrated[[by]], level)
+    rbind(metric_row("calibrated", by, measured[[by]], colMeans(calibrated[[by]]), intervals),
+          metric_row("baseline", by, measured[[by]], towt[[by]]$mean,
+                     as.matrix(towt[[by]][bounds])))
+  }))
+  structure(out, class = c("bayesbem_metrics", "data.frame"))
+}
+
+# One row of compare_baseline(): Guideline 14's metrics and the share of `intervals` (a matrix of lower and upper bounds).
+# `obs` inside `intervals` (a matrix of lower and upper bounds); a single
+# month has no CVRMSE or NMBE (they need two values), only its coverage.
+metric_row <- function(prediction, by, obs, mean, intervals) {
+  two <- length(obs) >= 2L
+  data.frame(prediction = prediction, by = by, n = length(obs),
+             cvrmse = if (two) cvrmse(obs, mean) else NA_real_,
+             nmbe = if (two) nmbe(obs, mean) else NA_real_,
+             coverage = mean(obs >= intervals[, 1] & obs <= intervals[, 2]))
+}

@@ -41,5 +41,10 @@ plot_morris_data <- function(x) {
     abort_bayesbem("{.arg x} must be a result of {.code screen_morris(effects_on = \"total\")}.",
                    "argument")
   }
+  if (length(unique(x$output)) > 1L) {
+    abort_bayesbem(c("{.arg x} screens {length(unique(x$output))} outputs, each ranked on its own.",
+                     i = "Plot one output's rows, e.g. {.code plot_morris(x[x$output == \"{x$output[1]}\", ])}."),
+                   "argument")
+  }
   as.data.frame(unclass(x))[c("parameter", "mu_star", "sigma", "rank")]
 }

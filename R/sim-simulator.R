@@ -391,3 +391,48 @@ check_simulator <- function(simulator, arg = rlang::caller_arg(simulator),
                    "argument", call = call)
   }
 }
+
+#' An hourly simulator with the heat its building stored as an input
+#'
+#' Two hours of an hourly simulator with the same weather, hour and weekday
+#' (two calm nights) share their inputs, though the building behind them
+#' may differ: the heat its mass stored in the hours before. The emulator
+#' takes the simulator as a function of its inputs and averages such hours
+#' (a message of [koh_data()] says by how much they differed), and the
+#' discrepancy cannot tell them apart. `with_lagged_temperature()` adds the
+#' input that carries that state: `temp_lag`, the mean outdoor temperature
+#' of the `hours` hours before each hour (of the hours there are, at the
+#' start of the file).
+#'
+#' @param simulator A simulator by hour (e.g. `bem_simulator(epw, by =
+#'   "hour")` or `eplus_simulator(..., by = "hour")`).
+#' @param hours How many hours before each hour to average.
+#' @return The simulator, its inputs `x` with the column `temp_lag`.
+#' @family simulation
+#' @export
+#' @examples
+#' sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"),
+#'                      by = "hour")
+#' head(with_lagged_temperature(sim)$x)
+with_lagged_temperature <- function(simulator, hours = 24L) {
+  check_simulator(simulator)
+  check_count(hours)
+  start <- simulator$periods$start
+  if (!inherits(start, "POSIXct") || is.null(simulator$x$temp) ||
+      any(diff(as.numeric(start)) != 3600)) {
+    abort_bayesbem(c("{.arg simulator} must simulate consecutive hours with a {.field temp} input.",
+                     i = "Make it with {.code by = \"hour\"}, e.g. {.code bem_simulator(epw, by = \"hour\")}."),
+                   "argument")
+  }
+  temp <- simulator$x$temp
+  # the sum of the `hours` temperatures before each hour, from cumulative sums
+  total <- c(0, cumsum(temp))
+  n <- length(temp)
+  from <- pmax(seq_len(n) - hours, 1L)
+  counts <- seq_len(n) - from
+  lagged <- ifelse(counts > 0, (total[seq_len(n)] - total[from]) / pmax(counts, 1), temp)
+  simulator$x$temp_lag <- lagged
+  simulator$name <- sprintf("%s, with the previous %d hours' mean temperature", simulator$name,
+                            hours)
+  simulator
+}

@@ -40,6 +40,10 @@
 #' @param tz The time zone in which text times are read (e.g. `"UTC"`).
 #' @param stamps Whether a reading's time is the `"end"` or the `"start"` of
 #'   its interval.
+#' @param days Optional: the first and last day to keep (`Date`s, in the
+#'   site's standard time), e.g. a calendar year of a station whose file
+#'   of that year starts with the last hour of the year before (stamped at
+#'   its end, midnight). An hour of those days without a reading is a gap.
 #' @param max_gap The longest run of missing hours filled by interpolation.
 #' @param name The site's name, for the EPW header.
 #' @return An object of class `bayesbem_weather`: a data frame of hours
@@ -73,7 +77,7 @@
 #' head(epw_monthly(path))
 read_weather <- function(x, latitude, longitude, elevation, time_zone,
                          columns = NULL, tz = "UTC", stamps = c("end", "start"),
-                         max_gap = 3L, name = "site") {
+                         days = NULL, max_gap = 3L, name = "site") {
   stamps <- match_choice(stamps)
   check_between(latitude, -90, 90)
   check_between(longitude, -180, 180)
@@ -81,7 +85,7 @@ read_weather <- function(x, latitude, longitude, elevation, time_zone,
   check_between(time_zone, -12, 14)
   check_count(max_gap + 1L, arg = "max_gap + 1")
   readings <- weather_readings(x, columns, tz, stamps)
-  hours <- hourly_means(readings, time_zone)
+  hours <- hourly_means(readings, time_zone, check_days(days))
   hours <- fill_gaps(hours, max_gap)
   if (is.null(hours$rh)) hours$rh <- relative_humidity(hours$temp, hours$dew_point)
   if (is.null(hours$dew_point)) hours$dew_point <- dew_point(hours$temp, hours$rh)
@@ -179,14 +183,37 @@ weather_times <- function(time, tz, call) {
   parsed
 }
 
+check_days <- function(days, call = rlang::caller_env()) {
+  if (is.null(days)) {
+    return(NULL)
+  }
+  if (!inherits(days, "Date") || length(days) != 2L || anyNA(days) || days[2] < days[1]) {
+    abort_bayesbem("{.arg days} must be two {.cls Date}s, the first and the last day to keep, not {describe_value(days)}.",
+                   "argument", call = call)
+  }
+  days
+}
+
 # The readings averaged into the hours of standard time (UTC + `time_zone`
 # hours), from the first hour to the last, an hour without any reading all
 # NA; `filled` is "flagged" for an hour any of whose readings the station
 # flagged.
-hourly_means <- function(readings, time_zone) {
+hourly_means <- function(readings, time_zone, days = NULL, call = rlang::caller_env()) {
   offset <- time_zone * 3600
   hour <- floor((readings$start + offset) / 3600)
-  all_hours <- seq(min(hour), max(hour))
+  if (!is.null(days)) {
+    # the hours of those days, counted from 1970-01-01 in standard time
+    all_hours <- seq(as.numeric(days[1]) * 24, as.numeric(days[2]) * 24 + 23)
+    kept <- hour %in% all_hours
+    if (!any(kept)) {
+      abort_bayesbem("No reading falls on {.arg days}, {format(days[1])} to {format(days[2])}.",
+                     "weather", call = call)
+    }
+    readings <- readings[kept, , drop = FALSE]
+    hour <- hour[kept]
+  } else {
+    all_hours <- seq(min(hour), max(hour))
+  }
   at <- factor(hour, levels = all_hours)
   zone <- if (time_zone == 0) "UTC" else if (time_zone == round(time_zone)) sprintf("Etc/GMT%+d", -time_zone) else "UTC"
   out <- data.frame(time = as.POSIXct(all_hours * 3600 - offset, origin = "1970-01-01", tz = zone))

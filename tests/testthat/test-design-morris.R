@@ -15,6 +15,22 @@ test_that("Morris screening ranks influential parameters above negligible ones",
   expect_identical(screen_morris(sim, r = 10, seed = 1), m)
 })
 
+test_that("Morris screening of two meters ranks each on its own output", {
+  skip_if_not_installed("sensitivity")
+  sim <- bem_simulator(shipped_epw(2013), output = c("electricity", "gas"))
+  params <- bem_parameters()[c(2, 4, 5), ]
+  m <- screen_morris(sim, params, r = 5, seed = 3)
+  expect_named(m, c("output", "parameter", "mu_star", "mu", "sigma", "rank"))
+  for (k in c("electricity", "gas")) {
+    alone <- screen_morris(bem_simulator(shipped_epw(2013), output = k), params, r = 5, seed = 3)
+    expect_equal(as.data.frame(m[m$output == k, -1]), as.data.frame(alone), ignore_attr = TRUE)
+  }
+  # the heating set point ranks first for gas, not for electricity
+  expect_equal(m$parameter[m$output == "gas" & m$rank == 1], "heating_setpoint")
+  expect_error(plot_morris(m), "2 outputs", class = "bayesbem_error_argument")
+  expect_s3_class(plot_morris(m[m$output == "gas", ]), "ggplot")
+})
+
 test_that("Morris screening per period gives effects for every period", {
   skip_if_not_installed("sensitivity")
   sim <- bem_simulator(shipped_epw(2013))

@@ -34,8 +34,14 @@ test_that("the TOWT baseline is the least-squares fit of its hours and knots, by
   week_hour <- (as.integer(format(d$time, "%u")) - 1L) * 24L + as.integer(format(d$time, "%H"))
   open_hours <- sort(unique(week_hour[d$open]))
   expect_setequal(which(baseline$occupied) - 1L, open_hours)
-  # the knots inside the data (80 F and 90 F have too few hours above them)
-  expect_equal(baseline$knots, (c(40, 55, 65) - 32) * 5 / 9)
+  # the knots inside each mode's data (80 F and 90 F have too few hours above them)
+  expect_equal(baseline$knots$unoccupied, (c(40, 55, 65) - 32) * 5 / 9)
+  for (mode in names(baseline$knots)) {
+    temp <- d$temp[(week_hour %in% open_hours) == (mode == "occupied")]
+    k <- baseline$knots[[mode]]
+    expect_gte(sum(temp < k[1]), 20)
+    expect_gte(sum(temp > k[length(k)]), 20)
+  }
   expect_output(print(baseline), "occupied hours of the week: 50 of 168")
   new <- towt_problem(weeks = 2, start = "2013-03-18", seed = 2)
   pred <- predict(baseline, new[c("temp", "time")], level = 0.8)
@@ -43,8 +49,9 @@ test_that("the TOWT baseline is the least-squares fit of its hours and knots, by
   for (mode in c(TRUE, FALSE)) {
     train_rows <- (week_hour %in% open_hours) == mode
     new_rows <- (new_hour %in% open_hours) == mode
-    by_hand <- stats::lm(y ~ ., data = hand_towt(d, baseline$knots, train_rows))
-    expected <- stats::predict(by_hand, hand_towt(new, baseline$knots, new_rows),
+    knots <- baseline$knots[[if (mode) "occupied" else "unoccupied"]]
+    by_hand <- stats::lm(y ~ ., data = hand_towt(d, knots, train_rows))
+    expected <- stats::predict(by_hand, hand_towt(new, knots, new_rows),
                                interval = "prediction", level = 0.8)
     expect_equal(pred$mean[new_rows], unname(expected[, "fit"]))
     expect_equal(pred$q10[new_rows], unname(expected[, "lwr"]))

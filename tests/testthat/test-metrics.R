@@ -105,3 +105,43 @@ test_that("a fit on several outputs gets each output's metrics, with a column ou
   expect_error(calibration_metrics(both$fit, newdata = seb_field, obs = seb_field$y),
                class = "bayesbem_error_argument")
 })
+
+test_that("the calibrated simulator and the TOWT baseline are scored on the same held-out hours", {
+  skip_on_cran()
+  sim <- bem_simulator(shipped_epw(2013), by = "hour")
+  truth <- list(equipment_power_density = 15, infiltration_per_exterior_area = 8e-4)
+  use <- simulate_design(sim, as.data.frame(truth))$eta
+  noisy <- use + withr::with_seed(test_seed(4), stats::rnorm(length(use), 0, 0.05))
+  hours <- sim$periods$start
+  # train on a week of January, hold out two weeks over the month's end
+  train <- which(hours >= as.POSIXct("2013-01-14", tz = "Etc/GMT+7"))[1] + 0:167
+  held <- which(hours >= as.POSIXct("2013-01-25", tz = "Etc/GMT+7"))[1] + 0:335
+  pars <- bem_parameters()
+  pars <- pars[pars$parameter %in% names(truth), ]
+  runs <- simulate_design(sim, design_lhs(pars, 12, seed = 1))
+  runs <- runs[rep(seq_along(hours), 12) %in% train, ]
+  field <- data.frame(y = noisy[train], sim$x[train, ], time = hours[train])
+  # (the additive discrepancy predicts a year of hours at a cost linear in them)
+  fit <- suppressWarnings(calibrate(field, runs, chains = 2, seed = test_seed(5),
+                                    discrepancy_kernel = "additive", progress = FALSE))
+  baseline <- towt_baseline(field)
+  obs <- rep(NA_real_, length(hours))
+  obs[held] <- noisy[held]
+  table <- withr::with_seed(6, compare_baseline(fit, baseline, sim, obs, ndraws = 20))
+  expect_s3_class(table, "bayesbem_metrics")
+  expect_equal(table$prediction, c("calibrated", "baseline", "calibrated", "baseline"))
+  expect_equal(table$by, c("hour", "hour", "month", "month"))
+  expect_equal(table$n, c(336, 336, 2, 2))
+  # the same draws by hand: the simulator at 20 draws with its noise
+  draws <- withr::with_seed(6, predict_scenario(fit, sim, ndraws = 20))$y[, held]
+  expect_equal(table$cvrmse[1], cvrmse(noisy[held], colMeans(draws)))
+  month <- format(hours[held], "%m")
+  totals <- sapply(c("01", "02"), function(m) rowSums(draws[, month == m]))
+  expect_equal(table$nmbe[3], nmbe(tapply(noisy[held], month, sum), colMeans(totals)))
+  rows <- predict(baseline, data.frame(temp = sim$x$temp[held], time = hours[held]))
+  expect_equal(table$cvrmse[2], cvrmse(noisy[held], rows$mean))
+  expect_equal(table$coverage[2], mean(noisy[held] >= rows$q5 & noisy[held] <= rows$q95))
+  # the simulator at the truth's neighbourhood covers most held-out hours
+  expect_gt(table$coverage[1], 0.7)
+  expect_error(compare_baseline(fit, fit, sim, obs), class = "bayesbem_error_argument")
+})

@@ -119,3 +119,19 @@ test_that("an R function receives the days of bills on their own dates", {
   expect_error(simulator(function(params, x) x$temp, x, pars, periods = bills, weather = epw),
                "third argument", class = "bayesbem_error_argument")
 })
+
+test_that("the previous day's mean temperature tells apart hours that share their inputs", {
+  sim <- bem_simulator(shipped_epw(2013), by = "hour")
+  lagged <- with_lagged_temperature(sim)
+  temp <- sim$x$temp
+  expect_equal(lagged$x$temp_lag[30], mean(temp[6:29]))
+  expect_equal(lagged$x$temp_lag[c(1, 2, 3)], c(temp[1], temp[1], mean(temp[1:2])))
+  expect_equal(lagged$x[names(sim$x)], sim$x)
+  expect_equal(with_lagged_temperature(sim, hours = 3)$x$temp_lag[10], mean(temp[7:9]))
+  # hours of equal inputs (calm nights) there are without it, none with it
+  shared <- function(x) sum(duplicated(x))
+  expect_gt(shared(sim$x), 0)
+  expect_equal(shared(lagged$x), 0)
+  expect_error(with_lagged_temperature(bem_simulator(shipped_epw(2013))),
+               class = "bayesbem_error_argument")
+})

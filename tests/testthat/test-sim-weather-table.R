@@ -71,6 +71,21 @@ test_that("an EPW written from a station's table reads back hour for hour", {
   expect_equal(epw_monthly(path)$temp, epw_monthly(shipped_epw(2013))$temp)
 })
 
+test_that("a calendar year is kept of a station's hours stamped at their end", {
+  station <- station_table()$station
+  # a file of a year's stamps: its first reading is the year before's last hour
+  shifted <- station
+  shifted$ob_time <- shifted$ob_time - 3600
+  year <- as.Date(c("2013-01-01", "2013-12-31"))
+  expect_error(suppressMessages(read_golden(shifted, days = year)), "missing for 1 hour",
+               class = "bayesbem_error_weather")
+  weather <- read_golden(shifted, days = as.Date(c("2013-01-01", "2013-12-30")))
+  expect_equal(nrow(weather), 364 * 24)
+  expect_equal(format(weather$time[1], "%Y-%m-%d %H:%M"), "2013-01-01 00:00")
+  expect_equal(weather$temp, station$air_temperature[-1][1:(364 * 24)])
+  expect_error(read_golden(station, days = year[2:1]), class = "bayesbem_error_argument")
+})
+
 test_that("sub-hourly readings in local time average into the hours of standard time", {
   data <- station_table()
   # 15-minute readings stamped at their start in Denver's clock (summer time)

@@ -1,0 +1,96 @@
+# Benchmark: real buildings as their data come. Buildings of the Cambridge
+# University Estates building energy archive (Langtry & Choudhary 2024,
+# doi 10.5281/zenodo.10955332, MIT): a year of hourly electricity and gas
+# per building (UTC, missing readings stored as zeros, clipped at 10 x the
+# mean) and the Met Office's hourly weather at Bedford (temperature,
+# relative humidity, global radiation). Each building: the station's table
+# through read_weather() and write_epw(), each meter through
+# field_hours() with meter_rules() (gas: no zero rule, a gas meter rests
+# in summer), train January-September, predict October-December with the
+# TOWT baseline; hourly and monthly CV(RMSE), NMBE and 90 % coverage of
+# the held-out hours and months, and what the rules left out
+# (bench/results/real-buildings.md). Buildings 19, 57 and 111 are kept
+# for acceptance and refused here.
+# Usage, from the package root, with bayesbem installed:
+#   BENCH_ARCHIVE=<the archive's git directory or checkout> \
+#     Rscript bench/bench-real-buildings.R [buildings] [year]
+#   (default buildings 0,13,22,25,27,33,35,40; year 2019)
+suppressPackageStartupMessages(library(bayesbem))
+args <- commandArgs(trailingOnly = TRUE)
+buildings <- if (length(args) > 0L) strsplit(args[1], ",")[[1]] else
+  c("0", "13", "22", "25", "27", "33", "35", "40")
+year <- if (length(args) > 1L) args[2] else "2019"
+held_for_acceptance <- c("19", "57", "111")
+if (any(buildings %in% held_for_acceptance)) {
+  stop("buildings 19, 57 and 111 are kept for acceptance", call. = FALSE)
+}
+archive <- Sys.getenv("BENCH_ARCHIVE")
+if (!nzchar(archive)) stop("set BENCH_ARCHIVE to the archive's folder", call. = FALSE)
+
+# A file of the archive, from a checkout or from its git directory.
+archive_csv <- function(path) {
+  if (file.exists(file.path(archive, path))) {
+    return(utils::read.csv(file.path(archive, path), check.names = FALSE))
+  }
+  text <- system2("git", c("--git-dir", shQuote(archive), "show", shQuote(paste0("HEAD:", path))),
+                  stdout = TRUE, stderr = FALSE)
+  if (length(text) == 0L) return(NULL)
+  utils::read.csv(text = text, check.names = FALSE)
+}
+
+# the station stamps each hour by its end: the year's hours run into the
+# next year's file
+station <- do.call(rbind, lapply(as.integer(year) + 0:1, function(y) {
+  archive_csv(sprintf("aux_data/MetOffice Weather Data/processed_data/bedford/%d.csv", y))
+}))
+names(station) <- c("time", "temp", "rh", "ghi")
+weather <- suppressMessages(read_weather(station, latitude = 52.227, longitude = -0.465,
+                                         elevation = 85, time_zone = 0, name = "Bedford",
+                                         days = as.Date(paste0(year, c("-01-01", "-12-31")))))
+epw <- write_epw(weather, file.path(tempdir(), sprintf("bedford-%s.epw", year)))
+sim <- bem_simulator(epw, by = "hour")
+zone <- "Europe/London"
+held_out <- function(time) as.integer(format(time, "%m", tz = zone)) >= 10L
+
+score <- function(obs, pred, lower, upper) {
+  c(cvrmse = cvrmse(obs, pred), nmbe = nmbe(obs, pred),
+    coverage = mean(obs >= lower & obs <= upper))
+}
+
+rows <- list()
+for (b in buildings) {
+  for (meter in c("electricity", "gas")) {
+    readings <- archive_csv(sprintf("building_data/processed_data/UCam_Building_b%s/%s/%s.csv",
+                                    b, meter, year))
+    if (is.null(readings)) next
+    time <- as.POSIXct(readings[[1]], tz = "UTC")
+    rules <- if (meter == "gas") meter_rules(zero_hours = Inf, zero_days = FALSE) else meter_rules()
+    said <- character()
+    field <- tryCatch(withCallingHandlers(
+      field_hours(sim, time, readings[[2]], rules = rules, sufficiency = 0),
+      message = function(m) {
+        said <<- c(said, conditionMessage(m))
+        invokeRestart("muffleMessage")
+      },
+      warning = function(w) invokeRestart("muffleWarning")), error = function(e) e)
+    if (inherits(field, "error")) next
+    left_out <- length(time) - nrow(field)
+    attr(field$time, "tzone") <- zone
+    train <- field[!held_out(field$time), ]
+    test <- field[held_out(field$time), ]
+    started <- proc.time()[["elapsed"]]
+    baseline <- towt_baseline(train)
+    hours <- predict(baseline, test)
+    months <- predict(baseline, test, by = "month")
+    month_obs <- as.vector(tapply(test$y, format(test$time, "%Y-%m", tz = zone), sum))
+    rows[[length(rows) + 1L]] <- data.frame(
+      building = b, meter = meter, hours = nrow(field), left_out = left_out,
+      min_share = round(min(data_sufficiency(field$time)$share), 2),
+      t(round(score(test$y, hours$mean, hours$q5, hours$q95), 3)),
+      t(round(stats::setNames(score(month_obs, months$mean, months$q5, months$q95),
+                              c("m_cvrmse", "m_nmbe", "m_coverage")), 3)),
+      seconds = round(proc.time()[["elapsed"]] - started, 1))
+  }
+}
+table <- do.call(rbind, rows)
+print(table, row.names = FALSE)
