@@ -21,7 +21,8 @@
 #'   air temperature leaves the set points, just enough to hold it at
 #'   the set point (C.4.2: the air temperature is linear in that power).
 #'
-#' Lights and equipment follow the building's `occupancy` by hour of week
+#' Lights and equipment follow the building's `occupancy` by hour of week,
+#' on its `clock` and with its `holidays` ([bem_building()])
 #' (`base + (1 - base) * occupancy`, `base` chosen so that the mean is the
 #' monthly model's `lighting_fraction` and `equipment_fraction`), and so do
 #' the occupants' gains (mean `occupant_gain`); the fan runs continuously.
@@ -34,7 +35,8 @@
 #' @param parameters A named list or one-row data frame with all 14
 #'   parameters of [bem_parameters()] (physical units).
 #' @param weather Hourly weather from `epw_weather(by = "hour")` (columns
-#'   `temp`, `dni`, `dhi`, `ghi`, `hour`, `weekday`), in time order.
+#'   `temp`, `dni`, `dhi`, `ghi`, `hour`, `weekday`, and `time` for a
+#'   building with a `clock` or `holidays`), in time order.
 #' @param building Building properties from [bem_building()].
 #' @return A data frame with one row per hour: `electricity` and `gas`
 #'   (kWh), the needs `heating_need` and `cooling_need` (kWh) and the air
@@ -54,7 +56,7 @@ bem_hourly <- function(parameters, weather, building = bem_building()) {
   k <- bem_constants(parameters, building)
   p <- k$p
   b <- building
-  week_hour <- (weather$weekday - 1L) * 24L + weather$hour + 1L
+  week_hour <- schedule_hours(weather, b)
   occupancy <- b$occupancy / max(mean(b$occupancy), .Machine$double.eps)
   lights <- k$lights * schedule_shape(b$occupancy, b$lighting_fraction)[week_hour]
   equipment <- k$equipment * schedule_shape(b$occupancy, b$equipment_fraction)[week_hour]

@@ -52,7 +52,12 @@ bem_parameters <- function() {
 #'   `baseboard_share` (share of the heating need met by the baseboard, up
 #'   to its capacity), `occupancy` (168 shares of full occupancy, hour by
 #'   hour of the week from Monday 0:00, for [bem_hourly()]: by default 1 on
-#'   weekdays from 7:00 to 19:00, 0 otherwise).
+#'   weekdays from 7:00 to 19:00, 0 otherwise), `clock` (the time zone
+#'   whose clock the occupancy follows, e.g. `"Europe/London"`, summer time
+#'   included; `NULL`, the default: the weather file's standard time) and
+#'   `holidays` (`Date`s, in that clock, whose hours follow Sunday's
+#'   occupancy; `NULL`: none). The monthly model uses the mean shares
+#'   only.
 #' @family simulation
 #' @export
 #' @examples
@@ -65,7 +70,8 @@ bem_building <- function(...) {
     kappa_wall = 80e3, kappa_roof = 50e3, kappa_internal = 110e3,
     lighting_fraction = 0.6, equipment_fraction = 0.7, occupant_gain = 200,
     outdoor_air = 0.03, fan_flow = 0.45, fan_pressure = 500, baseboard_share = 0.15,
-    occupancy = rep(c(rep(c(rep(0, 7), rep(1, 12), rep(0, 5)), 5), rep(0, 48)))
+    occupancy = rep(c(rep(c(rep(0, 7), rep(1, 12), rep(0, 5)), 5), rep(0, 48))),
+    clock = NULL, holidays = NULL
   )
   changes <- list(...)
   unknown <- setdiff(names(changes), names(defaults))
@@ -81,7 +87,48 @@ bem_building <- function(...) {
                      x = "It is {describe_value(occupancy)} of length {length(occupancy)}."),
                    "argument")
   }
-  utils::modifyList(defaults, changes)
+  check_clock(changes$clock, changes$holidays)
+  # (modifyList() would drop a property set to NULL)
+  out <- defaults
+  out[names(changes)] <- changes
+  out
+}
+
+check_clock <- function(clock, holidays, call = rlang::caller_env()) {
+  if (!is.null(clock) && (!is.character(clock) || length(clock) != 1L ||
+                          !clock %in% OlsonNames())) {
+    abort_bayesbem(c("{.field clock} must name a time zone, not {describe_value(clock)}.",
+                     i = "E.g. {.val Europe/London} or {.val America/Denver} (see {.fn OlsonNames})."),
+                   "argument", call = call)
+  }
+  if (!is.null(holidays) && (!inherits(holidays, "Date") || anyNA(holidays))) {
+    abort_bayesbem("{.field holidays} must be {.cls Date}s, not {describe_value(holidays)}.",
+                   "argument", call = call)
+  }
+}
+
+# The weekday (1 Monday to 7) and hour (0-23) whose schedule each hour of
+# `weather` follows: on the building's clock (its summer time) when it has
+# one, else the file's standard time; a holiday is a Sunday.
+schedule_calendar <- function(weather, building, call = rlang::caller_env()) {
+  if (is.null(building$clock) && is.null(building$holidays)) {
+    return(list(weekday = weather$weekday, hour = weather$hour))
+  }
+  if (!inherits(weather$time, "POSIXct")) {
+    abort_bayesbem("A building with a {.field clock} or {.field holidays} needs the hours' {.field time}, as {.code epw_weather(by = \"hour\")} gives.",
+                   "argument", call = call)
+  }
+  zone <- building$clock %||% (attr(weather$time, "tzone") %||% "UTC")
+  weekday <- as.integer(format(weather$time, "%u", tz = zone))
+  day <- as.Date(format(weather$time, "%Y-%m-%d", tz = zone))
+  weekday[day %in% building$holidays] <- 7L
+  list(weekday = weekday, hour = as.integer(format(weather$time, "%H", tz = zone)))
+}
+
+# The hour of the week (1 = Monday 0:00 to 168) of schedule_calendar().
+schedule_hours <- function(weather, building) {
+  at <- schedule_calendar(weather, building)
+  (at$weekday - 1L) * 24L + at$hour + 1L
 }
 
 #' Monthly energy use of the embedded building model (ISO 13790)

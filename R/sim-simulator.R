@@ -284,7 +284,8 @@ bem_hourly_simulator <- function(path, parameters, building, output, by) {
   hourly <- hourly_weather(records, path)
   if (by == "hour") {
     period <- seq_len(nrow(records))
-    weather <- hourly
+    # the inputs' weekday and hour are the schedules' (the building's clock)
+    weather <- utils::modifyList(hourly, schedule_calendar(hourly, building))
   } else {
     period <- record_periods(records, record_days(records), by)
     weather <- summarise_epw(records, by, path = path)

@@ -120,3 +120,27 @@ test_that("the simulator by day, week or hour sums the hourly model", {
                                                                    end = "2013-01-31")),
                class = "bayesbem_error_argument")
 })
+
+test_that("schedules follow the building's clock, summer time and holidays", {
+  weather <- epw_weather(shipped_epw(2013), by = "hour")
+  at <- function(text) which(format(weather$time, "%Y-%m-%d %H:%M") == text)
+  plain <- bayesbem:::schedule_hours(weather, bem_building())
+  denver <- bem_building(clock = "America/Denver", holidays = as.Date("2013-07-04"))
+  local <- bayesbem:::schedule_hours(weather, denver)
+  # Monday 1 July, 6:00 standard time, is 7:00 on Denver's summer clock
+  expect_equal(plain[at("2013-07-01 06:00")], 7L)
+  expect_equal(local[at("2013-07-01 06:00")], 8L)
+  # in January the clock is standard time
+  expect_equal(local[weather$month == 1], plain[weather$month == 1])
+  # Independence Day (a Thursday) keeps Sunday's hours
+  expect_equal(local[at("2013-07-04 11:00")], 6L * 24L + 12L + 1L)
+  p <- stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
+  noon <- at("2013-07-04 11:00")
+  expect_lt(bem_hourly(p, weather, denver)$electricity[noon],
+            bem_hourly(p, weather)$electricity[noon])
+  # the simulator's inputs are the schedules' hours
+  sim <- bem_simulator(shipped_epw(2013), building = denver, by = "hour")
+  expect_equal(sim$x$daytype_hour[noon], 24 + 12)
+  expect_error(bem_building(clock = "Mars/Olympus"), class = "bayesbem_error_argument")
+  expect_error(bem_building(holidays = "2013-07-04"), class = "bayesbem_error_argument")
+})
