@@ -94,6 +94,45 @@ bem_building <- function(...) {
   out
 }
 
+#' The embedded building model of a building described by its facts
+#'
+#' A practitioner knows a building's floor area, its floors and its roof
+#' area. `bem_building_facts()` scales the case study's building
+#' ([bem_building()]) to them: a square footprint of `floor_area / floors`,
+#' facades of `storey_height` per floor around it (the case study's 3 m:
+#' its 106.8 m2 of wall around 79 m2), the roof given, the floor's loss
+#' from the footprint alone, and the properties that grow with the floor
+#' (occupants' gains, outdoor air, the fan's flow) in proportion to it;
+#' constructions, shares and schedules stay the case study's unless given.
+#' The loads of [bem_parameters()] are per m2 of floor and serve any size.
+#'
+#' @param floor_area The floor area of all floors (m2).
+#' @param floors The number of floors.
+#' @param roof_area The roof's area (m2); by default the footprint.
+#' @param storey_height The height of a floor (m).
+#' @param ... Further properties of [bem_building()] (e.g. `occupancy`,
+#'   `clock`, `window_fraction`, `u_wall`).
+#' @return Building properties, as [bem_building()]'s.
+#' @family simulation
+#' @export
+#' @examples
+#' all.equal(bem_building_facts(79), bem_building())
+#' bem_building_facts(6000, floors = 4, clock = "Europe/London")[c("wall_area", "roof_area")]
+bem_building_facts <- function(floor_area, floors = 1L, roof_area = floor_area / floors,
+                               storey_height = 3, ...) {
+  for (arg in c("floor_area", "roof_area", "storey_height")) check_number(get(arg), "argument", positive = TRUE, arg = arg)
+  check_count(floors)
+  case <- bem_building()
+  footprint <- floor_area / floors
+  ratio <- floor_area / case$floor_area
+  facts <- list(floor_area = floor_area, roof_area = roof_area,
+                wall_area = 4 * sqrt(footprint) * storey_height * floors,
+                floor_loss_factor = case$floor_loss_factor * footprint / floor_area,
+                occupant_gain = case$occupant_gain * ratio, outdoor_air = case$outdoor_air * ratio,
+                fan_flow = case$fan_flow * ratio)
+  do.call(bem_building, utils::modifyList(facts, list(...)))
+}
+
 check_clock <- function(clock, holidays, call = rlang::caller_env()) {
   if (!is.null(clock) && (!is.character(clock) || length(clock) != 1L ||
                           !clock %in% OlsonNames())) {

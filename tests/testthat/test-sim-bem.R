@@ -64,3 +64,25 @@ test_that("the model responds to its parameters as physics says", {
 test_that("unknown building properties are rejected", {
   expect_error(bem_building(floor = 10), class = "bayesbem_error_argument")
 })
+
+test_that("a building described by its facts scales the case study's", {
+  # the case study's own facts give the case study's building
+  # (4 sqrt(79) 3 m of wall is 106.7 m2, the case study's 106.8)
+  expect_equal(bem_building_facts(79), bem_building(), tolerance = 2e-3)
+  big <- bem_building_facts(6000, floors = 4, roof_area = 1600, clock = "Europe/London")
+  expect_equal(big$wall_area, 4 * sqrt(1500) * 3 * 4)
+  expect_equal(big$roof_area, 1600)
+  expect_equal(big$fan_flow / big$floor_area, bem_building()$fan_flow / 79)
+  expect_equal(big$floor_loss_factor * big$floor_area, bem_building()$floor_loss_factor * 1500)
+  expect_equal(big$clock, "Europe/London")
+  # per m2 of floor, a building 76 times the case study's uses a little
+  # less: less facade per m2, and the baseboard's capacity is the case study's
+  p <- stats::setNames(as.list(bem_parameters()$initial), bem_parameters()$parameter)
+  w <- epw_monthly(shipped_epw(2013))
+  small <- sum(bem_monthly(p, w)$electricity) / 79
+  large <- sum(bem_monthly(p, w, bem_building_facts(6000))$electricity) / 6000
+  expect_lt(large, small)
+  expect_gt(large, 0.8 * small)
+  expect_error(bem_building_facts(-1), class = "bayesbem_error_argument")
+  expect_error(bem_building_facts(100, floors = 0), class = "bayesbem_error_argument")
+})
