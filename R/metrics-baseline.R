@@ -147,7 +147,7 @@ print.bayesbem_towt <- function(x, ...) {
   rlang::check_dots_empty()
   cat_lines("TOWT baseline (time of week and temperature) of {x$n} hours, {x$p} coefficients",
             "  occupied hours of the week: {sum(x$occupied)} of 168",
-            "  temperature knots (C): {paste(names(x$knots), vapply(x$knots, function(k) paste(format(round(k, 1)), collapse = ', '), character(1)), sep = ' ', collapse = '; ')}",
+            "  temperature knots (C): {paste(names(x$knots), vapply(x$knots, function(k) paste(round(k, 1), collapse = ', '), character(1)), sep = ' ', collapse = '; ')}",
             "  CV(RMSE) {format(round(100 * x$rmse / x$mean, 1))} %, residuals' lag-1 autocorrelation {format(round(x$rho, 2))}")
   invisible(x)
 }
