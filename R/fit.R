@@ -197,6 +197,13 @@
 #'   `options(bayesbem.lapack = TRUE)` or `FALSE` overrides the choice, and
 #'   `fit$settings$lapack` records it: the two give the same log density to
 #'   rounding, but a seeded fit repeats exactly only with the same choice.
+#' @section Before the fit: On a grid design (every run at every field
+#'   row) the measured total of each output must lie within the runs'
+#'   totals over the same rows; otherwise no setting the runs span reaches
+#'   the meter (a building of the wrong size, or the wrong units), the fit
+#'   would leave the whole gap to the discrepancy, and `calibrate()` stops
+#'   with an error of class `bayesbem_error_prior_misses` before it
+#'   samples.
 #' @section Range limits: A calibration parameter whose posterior piles
 #'   against a limit of its range (more than 10 % of the draws within 2 % of
 #'   the range from it, five times what a flat posterior holds there) is a
@@ -266,6 +273,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   minor_modes <- match_choice(minor_modes)
   inform_blas(largest_output(data), lapack, modular || structure == "grid")
   check_fit_size(fit_size(data, structure, modular, iter, discrepancy_kernel), min(cores, chains))
+  check_prior_covers(data)
   fit_env <- environment()
   sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
                   cores = min(cores, chains), control = control, args = list(...),

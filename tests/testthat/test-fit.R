@@ -369,3 +369,16 @@ test_that("the size check of a year of hours of two outputs says a number, and r
   expect_error(calibrate(d, chains = 2, seed = 1, progress = FALSE),
                class = "bayesbem_error_too_large")
 })
+
+test_that("a meter no run reaches is reported before anything is fitted", {
+  totals <- bayesbem:::prior_totals(koh_data(seb_field, seb_sim))
+  expect_equal(totals$measured, sum(seb_field$y))
+  runs <- split(seb_sim$eta, interaction(seb_sim[c("fan_total_efficiency", "equipment_power_density",
+                                                    "infiltration_per_exterior_area")], drop = TRUE))
+  expect_equal(sort(unname(totals$runs)), sort(unname(vapply(runs, sum, numeric(1)))))
+  expect_null(bayesbem:::check_prior_covers(koh_data(seb_field, seb_sim)))
+  # a building ten times the case study's: the bills ten times any run's
+  big <- seb_field
+  big$y <- 10 * big$y
+  expect_snapshot(calibrate(big, seb_sim, chains = 1, seed = 1), error = TRUE)
+})
