@@ -372,3 +372,45 @@ calendar_covariates <- function(simulator, holidays = NULL) {
   }, numeric(2)))
   as.data.frame(shares)
 }
+
+#' A building's occupancy estimated from its meter
+#'
+#' The embedded hourly model's lights, equipment and occupants follow an
+#' occupancy by hour of the week ([bem_building()]). Where the building's
+#' own schedule is unknown, its meter tells it: `meter_occupancy()` takes
+#' the mean use at each hour of the week (on the clock of `time`'s time
+#' zone, summer time included) and scales it to 0 at the quietest hour and
+#' 1 at the busiest, so that the model's schedule has the meter's weekday
+#' and weekend shape.
+#'
+#' @param time The readings' times, `POSIXct` in the building's time zone
+#'   (e.g. [field_hours()]'s `time`, its zone set to the building's clock).
+#' @param y The readings.
+#' @return 168 shares from Monday 0:00, for `bem_building(occupancy = )`.
+#' @family simulation
+#' @export
+#' @examples
+#' time <- as.POSIXct("2013-01-07", tz = "Europe/London") + 3600 * (0:(24 * 28 - 1))
+#' open <- as.integer(format(time, "%u")) <= 5 & as.integer(format(time, "%H")) %in% 8:17
+#' occupancy <- meter_occupancy(time, 10 + 20 * open)
+#' occupancy[1:24]   # Monday
+meter_occupancy <- function(time, y) {
+  if (!inherits(time, "POSIXct") || !is.numeric(y) || length(y) != length(time) ||
+      anyNA(time)) {
+    abort_bayesbem("{.arg time} and {.arg y} must be {.cls POSIXct} times and one reading each, not {describe_value(time)} and {describe_value(y)}.",
+                   "argument")
+  }
+  zone <- attr(time, "tzone") %||% ""
+  week_hour <- (as.integer(format(time, "%u", tz = zone)) - 1L) * 24L +
+    as.integer(format(time, "%H", tz = zone))
+  profile <- as.vector(tapply(y, factor(week_hour, levels = 0:167), mean, na.rm = TRUE))
+  unseen <- which(is.na(profile)) - 1L
+  if (length(unseen) > 0L) {
+    abort_bayesbem(c("The readings miss {length(unseen)} hour{?s} of the week.",
+                     x = "Hours of the week (0 = Monday 0:00): {utils::head(unseen, 5)}.",
+                     i = "Give at least a week of readings."),
+                   "argument")
+  }
+  spread <- diff(range(profile))
+  if (spread == 0) rep(1, 168L) else (profile - min(profile)) / spread
+}

@@ -163,3 +163,19 @@ test_that("calendar covariates: hour, weekend and holidays of each period", {
   expect_error(calendar_covariates(bem_simulator(epw), holidays = "2013-12-25"),
                class = "bayesbem_error_argument")
 })
+
+test_that("the occupancy estimated from a meter has its weekday and weekend shape", {
+  time <- as.POSIXct("2013-06-03", tz = "Europe/London") + 3600 * (0:(24 * 21 - 1))
+  hour <- as.integer(format(time, "%H"))
+  open <- as.integer(format(time, "%u")) <= 5 & hour >= 8 & hour < 18
+  y <- 10 + 30 * open + withr::with_seed(1, stats::rnorm(length(time), 0, 0.1))
+  occupancy <- meter_occupancy(time, y)
+  expected <- rep(c(rep(c(rep(0, 8), rep(1, 10), rep(0, 6)), 5), rep(0, 48)))
+  expect_equal(occupancy, expected, tolerance = 0.02)
+  expect_equal(range(occupancy), c(0, 1))
+  # in the building's clock: the same readings seen in UTC start an hour earlier
+  utc <- meter_occupancy(as.POSIXct(format(time, tz = "UTC"), tz = "UTC"), y)
+  expect_equal(utc[8], 1, tolerance = 0.02)
+  expect_no_error(bem_building(occupancy = occupancy))
+  expect_error(meter_occupancy(time[1:100], y[1:100]), "miss", class = "bayesbem_error_argument")
+})
