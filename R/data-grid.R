@@ -185,22 +185,3 @@ prior_totals <- function(data) {
   runs <- unscale_y(field_runs(data), data$scaling)
   list(measured = sum(unscale_y(data$y, data$scaling)), runs = colSums(runs))
 }
-
-# calibrate()'s check before any fit: each output's measured total inside
-# its runs' totals (grid designs, where every run is at every field row).
-check_prior_covers <- function(data, call = rlang::caller_env()) {
-  outputs <- output_data(data)
-  for (k in seq_along(outputs)) {
-    d <- outputs[[k]]
-    if (is.null(d$grid)) next
-    totals <- prior_totals(d)
-    range <- range(totals$runs)
-    if (totals$measured >= range[1] && totals$measured <= range[2]) next
-    label <- if (length(outputs) > 1L) sprintf(" of output %s", names(outputs)[k]) else ""
-    abort_bayesbem(c("The measured total{label} lies outside every run's total over the same periods: no setting the runs span reaches it.",
-                     x = "Measured {format(signif(totals$measured, 4))}; the {length(totals$runs)} runs give {format(signif(range[1], 4))} to {format(signif(range[2], 4))}.",
-                     i = "Check the units and the building's size ({.fn bem_building_facts}), widen the parameters' ranges and rerun the design; calibrating would leave the whole gap to the discrepancy."),
-                   "prior_misses", call = call)
-  }
-  invisible()
-}
