@@ -61,8 +61,10 @@ bem_hourly <- function(parameters, weather, building = bem_building()) {
   lights <- k$lights * schedule_shape(b$occupancy, b$lighting_fraction)[week_hour]
   equipment <- k$equipment * schedule_shape(b$occupancy, b$equipment_fraction)[week_hour]
   internal <- lights + equipment + k$occupants * occupancy[week_hour] + k$fan_heat
+  # an uncooled building's air floats above the cooling set point
+  cooling_setpoint <- if (isTRUE(b$cooling %||% TRUE)) p$cooling_setpoint else Inf
   hvac <- network_hours(k, b$floor_area, weather$temp, internal, k$solar(weather),
-                        p$heating_setpoint, p$cooling_setpoint)
+                        p$heating_setpoint, cooling_setpoint)
   out <- bem_meters(k, pmax(hvac$power, 0), pmax(-hvac$power, 0), lights + equipment + k$p_fan, 1)
   out$air_temp <- hvac$air
   out

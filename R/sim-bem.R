@@ -57,7 +57,9 @@ bem_parameters <- function() {
 #'   included; `NULL`, the default: the weather file's standard time) and
 #'   `holidays` (`Date`s, in that clock, whose hours follow Sunday's
 #'   occupancy; `NULL`: none). The monthly model uses the mean shares
-#'   only.
+#'   only. `cooling`: whether the building is cooled (`FALSE`: no DX coil,
+#'   the air floats above the cooling set point, no cooling electricity;
+#'   most of Europe's older offices and campuses).
 #' @family simulation
 #' @export
 #' @examples
@@ -71,7 +73,7 @@ bem_building <- function(...) {
     lighting_fraction = 0.6, equipment_fraction = 0.7, occupant_gain = 200,
     outdoor_air = 0.03, fan_flow = 0.45, fan_pressure = 500, baseboard_share = 0.15,
     occupancy = rep(c(rep(c(rep(0, 7), rep(1, 12), rep(0, 5)), 5), rep(0, 48))),
-    clock = NULL, holidays = NULL
+    clock = NULL, holidays = NULL, cooling = TRUE
   )
   changes <- list(...)
   unknown <- setdiff(names(changes), names(defaults))
@@ -88,6 +90,7 @@ bem_building <- function(...) {
                    "argument")
   }
   check_clock(changes$clock, changes$holidays)
+  if (!is.null(changes$cooling)) check_bool(changes$cooling, arg = "cooling")
   # (modifyList() would drop a property set to NULL)
   out <- defaults
   out[names(changes)] <- changes
@@ -230,6 +233,7 @@ bem_monthly <- function(parameters, weather, building = bem_building()) {
   heating <- ifelse(loss_heating > 0,
                     pmax(loss_heating - gain_utilisation(gains / loss_heating, a) * gains, 0), 0)
   cooling <- pmax(gains - loss_utilisation(loss_cooling / gains, a) * loss_cooling, 0)
+  if (!isTRUE(b$cooling %||% TRUE)) cooling <- 0 * cooling
   bem_meters(k, heating, cooling, lights + equipment + k$p_fan * hours, hours)
 }
 
