@@ -133,7 +133,8 @@ bem_building_facts <- function(floor_area, floors = 1L, roof_area = floor_area /
                 floor_loss_factor = case$floor_loss_factor * footprint / floor_area,
                 occupant_gain = case$occupant_gain * ratio, outdoor_air = case$outdoor_air * ratio,
                 fan_flow = case$fan_flow * ratio)
-  do.call(bem_building, utils::modifyList(facts, list(...)))
+  facts[names(list(...))] <- list(...)
+  rlang::inject(bem_building(!!!facts))
 }
 
 check_clock <- function(clock, holidays, call = rlang::caller_env()) {
