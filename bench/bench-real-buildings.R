@@ -135,6 +135,7 @@ for (b in buildings) {
     if (meter == "electricity" && identical(Sys.getenv("BENCH_CALIBRATE"), "true")) {
       calibrated[[length(calibrated) + 1L]] <- calibrate_building(b, field, time, readings[[2]],
                                                                   baseline)
+      print(calibrated[[length(calibrated)]], row.names = FALSE)
     }
   }
 }
