@@ -48,7 +48,7 @@
 #' @examples
 #' time <- as.POSIXct("2013-01-07", tz = "UTC") + 3600 * (0:(24 * 7 * 8 - 1))
 #' hour <- as.integer(format(time, "%H"))
-#' temp <- 10 + 8 * sin(2 * pi * (hour - 9) / 24)
+#' temp <- 10 + 8 * sin(2 * pi * (hour - 9) / 24) + stats::rnorm(length(time), 0, 3)
 #' y <- 20 + 15 * (hour %in% 8:17) + 0.8 * pmax(temp - 15, 0) + rnorm(length(time))
 #' baseline <- towt_baseline(data.frame(y = y, temp = temp, time = time))
 #' baseline
