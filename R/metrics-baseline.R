@@ -105,7 +105,7 @@ predict.bayesbem_towt <- function(object, newdata, by = NULL, level = 0.9, ...) 
   week_hour <- hour_of_week(newdata$time, object$zone)
   mode <- object$occupied[week_hour + 1L]
   mean <- sd <- half <- numeric(nrow(newdata))
-  t <- function(df) stats::qt(interval_probs(level)[2], df)
+  t_quantile <- function(df) stats::qt(interval_probs(level)[2], df)
   for (m in names(object$models)) {
     rows <- mode == (m == "occupied")
     if (!any(rows)) next
@@ -115,14 +115,14 @@ predict.bayesbem_towt <- function(object, newdata, by = NULL, level = 0.9, ...) 
     p <- stats::predict(model, frame, se.fit = TRUE)
     mean[rows] <- p$fit
     sd[rows] <- sqrt(p$se.fit^2 + p$residual.scale^2)
-    half[rows] <- t(p$df) * sd[rows]
+    half[rows] <- t_quantile(p$df) * sd[rows]
   }
   if (is.null(by)) {
     out <- data.frame(time = newdata$time, mean = mean, sd = sd)
   } else {
     match_choice(by, "month")
     out <- towt_month_totals(object, newdata$time, mean)
-    half <- t(object$n - object$p) * out$sd
+    half <- t_quantile(object$n - object$p) * out$sd
   }
   bounds <- out$mean + cbind(-half, half)
   colnames(bounds) <- quantile_names(interval_probs(level))
@@ -153,12 +153,6 @@ print.bayesbem_towt <- function(x, ...) {
 }
 
 celsius <- function(fahrenheit) (fahrenheit - 32) * 5 / 9
-
-# The hour of the week, 0 (Monday 0:00) to 167, on the clock of `zone`
-# (with its summer time: a building's hours follow its clock).
-hour_of_week <- function(time, zone) {
-  (as.integer(format(time, "%u", tz = zone)) - 1L) * 24L + as.integer(format(time, "%H", tz = zone))
-}
 
 # The knots with at least `min_rows` temperatures below the lowest and
 # above the highest: outer knots without data are dropped one by one.

@@ -284,7 +284,9 @@ compare_baseline <- function(fit, baseline, newdata, obs, level = 0.9, ndraws = 
   month_draws <- vapply(unique(month), function(m) rowSums(draws[, month == m, drop = FALSE]),
                         numeric(nrow(draws)))
   calibrated <- list(hour = draws, month = matrix(month_draws, nrow = nrow(draws)))
-  measured <- list(hour = obs[rows], month = as.vector(tapply(obs[rows], factor(month, unique(month)), sum)))
+  measured <- list(hour = obs[rows],
+                   month = vapply(unique(month), function(m) sum(obs[rows][month == m]), numeric(1),
+                                  USE.NAMES = FALSE))
   bounds <- quantile_names(interval_probs(level))
   out <- do.call(rbind, lapply(c("hour", "month"), function(by) {
     intervals <- column_intervals(calibrated[[by]], level)
@@ -295,7 +297,7 @@ compare_baseline <- function(fit, baseline, newdata, obs, level = 0.9, ndraws = 
   structure(out, class = c("bayesbem_metrics", "data.frame"))
 }
 
-# One row of compare_baseline(): Guideline 14's metrics and the share of `intervals` (a matrix of lower and upper bounds).
+# One row of compare_baseline(): Guideline 14's metrics and the share of
 # `obs` inside `intervals` (a matrix of lower and upper bounds); a single
 # month has no CVRMSE or NMBE (they need two values), only its coverage.
 metric_row <- function(prediction, by, obs, mean, intervals) {

@@ -400,9 +400,7 @@ meter_occupancy <- function(time, y) {
     abort_bayesbem("{.arg time} and {.arg y} must be {.cls POSIXct} times and one reading each, not {describe_value(time)} and {describe_value(y)}.",
                    "argument")
   }
-  zone <- attr(time, "tzone") %||% ""
-  week_hour <- (as.integer(format(time, "%u", tz = zone)) - 1L) * 24L +
-    as.integer(format(time, "%H", tz = zone))
+  week_hour <- hour_of_week(time, attr(time, "tzone") %||% "")
   profile <- as.vector(tapply(y, factor(week_hour, levels = 0:167), mean, na.rm = TRUE))
   unseen <- which(is.na(profile)) - 1L
   if (length(unseen) > 0L) {

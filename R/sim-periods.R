@@ -15,12 +15,7 @@ check_periods <- function(periods, arg = rlang::caller_arg(periods), call = rlan
     abort_bayesbem("{.arg {arg}} has no rows.", "periods", call = call)
   }
   days <- lapply(c(start = "start", end = "end"), function(col) as_days(periods[[col]], col, arg, call))
-  # `what`: the singular's and the plural's verb phrase
-  abort_rows <- function(rows, what, fix) {
-    what <- what[min(length(rows), 2L)]
-    abort_bayesbem(c("{cli::qty(length(rows))}Row{?s} {rows} of {.arg {arg}} {what}.", i = fix),
-                   "periods", call = call)
-  }
+  abort_rows <- function(rows, what, fix) abort_period_rows(rows, what, fix, arg, call)
   backwards <- which(days$end < days$start)
   if (length(backwards) > 0L) {
     abort_rows(backwards, c("ends before it starts", "end before they start"), "Give each period's first day as {.field start} and its last as {.field end}.")
@@ -37,6 +32,14 @@ check_periods <- function(periods, arg = rlang::caller_arg(periods), call = rlan
     }
   }
   data.frame(start = days$start, end = days$end)
+}
+
+# The error naming the rows of periods `arg` that break a rule; `what`:
+# the singular's and the plural's verb phrase.
+abort_period_rows <- function(rows, what, fix, arg, call) {
+  what <- what[min(length(rows), 2L)]
+  abort_bayesbem(c("{cli::qty(length(rows))}Row{?s} {rows} of {.arg {arg}} {what}.", i = fix),
+                 "periods", call = call)
 }
 
 # A simulator's `periods`, one row per row of its inputs (`n`): days
@@ -61,12 +64,8 @@ check_simulator_periods <- function(periods, n, call = rlang::caller_env()) {
   }
   start <- as.numeric(periods$start)
   end <- as.numeric(periods$end)
-  # `what`: the singular's and the plural's verb phrase
   abort_rows <- function(rows, what, fix) {
-    rows <- utils::head(rows, 5)
-    what <- what[min(length(rows), 2L)]
-    abort_bayesbem(c("{cli::qty(length(rows))}Row{?s} {rows} of {.arg periods} {what}.", i = fix),
-                   "periods", call = call)
+    abort_period_rows(utils::head(rows, 5), what, fix, "periods", call)
   }
   if (any(end <= start)) {
     abort_rows(which(end <= start), c("ends no later than it starts", "end no later than they start"),
@@ -84,6 +83,12 @@ check_simulator_periods <- function(periods, n, call = rlang::caller_env()) {
                "Periods are separate readings: the next starts where the last ends, or later.")
   }
   periods
+}
+
+# The hour of the week, 0 (Monday 0:00) to 167, on the clock of `zone`
+# (with its summer time: a building's hours follow its clock).
+hour_of_week <- function(time, zone) {
+  (as.integer(format(time, "%u", tz = zone)) - 1L) * 24L + as.integer(format(time, "%H", tz = zone))
 }
 
 # A column of dates as Dates: Date, POSIXct (its calendar day) or
