@@ -7,14 +7,24 @@
 #' `initial`, `min` and `max` (physical units); `unit` and `description` are
 #' optional.
 #'
+#' With `type`, the loads (equipment and lighting power densities) start
+#' and range around what the type of use implies ([bem_building_types()]):
+#' lighting from half to one and a half times the type's ASHRAE 90.1-2004
+#' allowance; equipment from a tenth to one and a half times the power in
+#' use that the type's typical CIBSE TM46 electricity amounts to, starting
+#' at half of it. The other parameters are the case study's.
+#'
+#' @param type A building type of [bem_building_types()] (e.g.
+#'   `"university"`), or `NULL` (the default): the case study's loads.
 #' @return A data frame with 14 rows and columns `parameter`, `initial`,
 #'   `min`, `max`, `unit`, `description`.
 #' @family simulation
 #' @export
 #' @examples
 #' bem_parameters()
-bem_parameters <- function() {
-  data.frame(
+#' bem_parameters(type = "office")[12:13, ]
+bem_parameters <- function(type = NULL) {
+  table <- data.frame(
     parameter = c("cooling_setpoint", "heating_setpoint", "fan_total_efficiency",
                   "fan_motor_efficiency", "dx_cooling_cop", "gas_burner_efficiency",
                   "baseboard_capacity", "wall_R_multiplier", "wall_density_multiplier",
@@ -31,6 +41,13 @@ bem_parameters <- function() {
                     "roof density multiplier", "electric equipment power density",
                     "lighting power density", "infiltration per exterior surface area")
   )
+  if (is.null(type)) {
+    return(table)
+  }
+  loads <- type_loads(type)
+  at <- match(loads$parameter, table$parameter)
+  table[at, c("initial", "min", "max")] <- loads[c("initial", "min", "max")]
+  table
 }
 
 #' Fixed properties of the embedded building model
@@ -107,12 +124,19 @@ bem_building <- function(...) {
 #' from the footprint alone, and the properties that grow with the floor
 #' (occupants' gains, outdoor air, the fan's flow) in proportion to it;
 #' constructions, shares and schedules stay the case study's unless given.
-#' The loads of [bem_parameters()] are per m2 of floor and serve any size.
+#' The loads of [bem_parameters()] are per m2 of floor and serve any size;
+#' `bem_parameters(type =)` gives the loads of a type of use.
+#'
+#' With `type`, the occupancy is the type's opening hours
+#' ([bem_building_types()]), unless `occupancy` is given: common hours, not
+#' measured; [meter_occupancy()] estimates them from a meter's readings.
 #'
 #' @param floor_area The floor area of all floors (m2).
 #' @param floors The number of floors.
 #' @param roof_area The roof's area (m2); by default the footprint.
 #' @param storey_height The height of a floor (m).
+#' @param type A building type of [bem_building_types()], or `NULL` (the
+#'   default): the case study's schedule.
 #' @param ... Further properties of [bem_building()] (e.g. `occupancy`,
 #'   `clock`, `window_fraction`, `u_wall`).
 #' @return Building properties, as [bem_building()]'s.
@@ -121,8 +145,9 @@ bem_building <- function(...) {
 #' @examples
 #' all.equal(bem_building_facts(79), bem_building())
 #' bem_building_facts(6000, floors = 4, clock = "Europe/London")[c("wall_area", "roof_area")]
+#' matrix(bem_building_facts(6000, type = "retail")$occupancy, 24)
 bem_building_facts <- function(floor_area, floors = 1L, roof_area = floor_area / floors,
-                               storey_height = 3, ...) {
+                               storey_height = 3, type = NULL, ...) {
   for (arg in c("floor_area", "roof_area", "storey_height")) check_number(get(arg), "argument", positive = TRUE, arg = arg)
   check_count(floors)
   case <- bem_building()
@@ -133,6 +158,7 @@ bem_building_facts <- function(floor_area, floors = 1L, roof_area = floor_area /
                 floor_loss_factor = case$floor_loss_factor * footprint / floor_area,
                 occupant_gain = case$occupant_gain * ratio, outdoor_air = case$outdoor_air * ratio,
                 fan_flow = case$fan_flow * ratio)
+  if (!is.null(type)) facts$occupancy <- type_occupancy(type)
   facts[names(list(...))] <- list(...)
   rlang::inject(bem_building(!!!facts))
 }

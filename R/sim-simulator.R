@@ -226,7 +226,9 @@ output_simulator <- function(simulator, output) {
 #'   for several meters read on other days a list of such tables named by
 #'   output (every meter is then simulated over all the periods; each
 #'   output's field rows pick their own).
-#' @param parameters A parameter table (default [bem_parameters()]).
+#' @param parameters A parameter table (default [bem_parameters()]) with
+#'   every parameter of the embedded model; to vary only some, give those
+#'   to [design_lhs()].
 #' @param building Building properties from [bem_building()].
 #' @param output `"electricity"`, `"gas"` (kWh per period) or both,
 #'   `c("electricity", "gas")`: a simulator of both meters, from one run of
@@ -243,6 +245,12 @@ bem_simulator <- function(weather, parameters = bem_parameters(), building = bem
                           periods = NULL) {
   check_by_or_periods(by, periods)
   by <- match_choice(by)
+  missing <- setdiff(bem_parameters()$parameter, check_parameter_table(parameters)$parameter)
+  if (length(missing) > 0L) {
+    abort_bayesbem(c("{.arg parameters} lacks {length(missing)} parameter{?s} of the embedded model: {.field {missing}}.",
+                     i = "Give the whole table (e.g. {.code bem_parameters(type = )}) and the parameters to vary to {.fn design_lhs}."),
+                   "argument")
+  }
   meters <- c("electricity", "gas")
   if (!is.character(output) || length(output) == 0L || anyNA(output) || anyDuplicated(output)) {
     abort_bayesbem("{.arg output} must be {.val electricity}, {.val gas} or both, not {describe_value(output)}.",

@@ -41,6 +41,9 @@ test_that("the embedded model gives both meters from one run", {
                   error = TRUE)
   expect_error(bem_simulator(shipped_epw(2013), output = character()),
                class = "bayesbem_error_argument")
+  # a part of the table would leave the model without the others' values
+  expect_snapshot(bem_simulator(shipped_epw(2013), parameters = bem_parameters()[12:13, ]),
+                  error = TRUE)
 })
 
 test_that("output_simulator() gives one output of a simulator of several", {

@@ -1,0 +1,77 @@
+#' Building types: benchmarks and lighting allowances by use
+#'
+#' What a practitioner's "type of use" says about a building, for
+#' [bem_parameters()] (the loads' initial values and ranges) and
+#' [bem_building_facts()] (the opening hours):
+#'
+#' * `electricity`, `fossil`: the typical annual electricity and fossil-fuel
+#'   (heating) use per m2 of floor of the type's category in CIBSE TM46:2008,
+#'   *Energy benchmarks*, Table 1 (the benchmarks of the UK's Display Energy
+#'   Certificates), in kWh/m2 a year;
+#' * `lighting`: the lighting power allowance of the building-area method of
+#'   ANSI/ASHRAE/IESNA Standard 90.1-2004, Table 9.5.1 (W/ft2 converted at
+#'   10.764 ft2/m2; a laboratory from the space-by-space method, Table 9.6.1),
+#'   in W/m2;
+#' * `open`, `close`: the hours a weekday's occupancy starts and ends, and
+#'   `saturday`, `sunday`: whether the building opens those days (same hours).
+#'   These are common opening hours, not from the tables above: where meter
+#'   readings exist, [meter_occupancy()] estimates the schedule from them.
+#'
+#' @return A data frame with one row per type: `type`, `tm46_category`,
+#'   `electricity`, `fossil`, `lighting`, `open`, `close`, `saturday`,
+#'   `sunday`.
+#' @references CIBSE (2008). *TM46: Energy benchmarks*. The Chartered
+#'   Institution of Building Services Engineers, London.
+#'
+#'   ASHRAE (2004). *ANSI/ASHRAE/IESNA Standard 90.1-2004: Energy standard
+#'   for buildings except low-rise residential buildings*. Atlanta.
+#' @family simulation
+#' @export
+#' @examples
+#' bem_building_types()
+bem_building_types <- function() {
+  w_per_ft2 <- c(office = 1.0, school = 1.2, university = 1.2, laboratory = 1.4, retail = 1.5,
+                 hotel = 1.0, hospital = 1.2)
+  data.frame(
+    type = names(w_per_ft2),
+    tm46_category = c("General office", "Schools and seasonal public buildings",
+                      "University campus", "Laboratory or operating theatre", "General retail",
+                      "Hotel", "Hospital (clinical and research)"),
+    electricity = c(95, 40, 80, 160, 165, 105, 90),
+    fossil = c(120, 150, 240, 160, 0, 330, 420),
+    lighting = round(unname(w_per_ft2) * 10.764, 1),
+    open = c(8, 8, 8, 8, 9, 0, 0), close = c(18, 16, 18, 19, 18, 24, 24),
+    saturday = c(FALSE, FALSE, FALSE, FALSE, TRUE, TRUE, TRUE),
+    sunday = c(FALSE, FALSE, FALSE, FALSE, FALSE, TRUE, TRUE)
+  )
+}
+
+# The row of bem_building_types() named `type`.
+building_type <- function(type, call = rlang::caller_env()) {
+  types <- bem_building_types()
+  types[types$type == match_choice(type, types$type, "type", call = call), ]
+}
+
+# The loads of a building type (bem_parameters(type =)): lighting around the
+# type's 90.1-2004 allowance (half of it, as an LED refit, to one and a half
+# times, older lamps); equipment from the part of the type's TM46
+# electricity the lighting leaves, as a power density in use (the embedded
+# model's mean share of equipment in use, 0.7): the initial value half of
+# the benchmark's mean power, the range from a tenth to one and a half times
+# it, so that the prior spans meters well below and above the benchmark.
+type_loads <- function(type, call = rlang::caller_env()) {
+  row <- building_type(type, call = call)
+  equipment <- row$electricity / 8.76 / 0.7
+  data.frame(parameter = c("equipment_power_density", "lighting_power_density"),
+             initial = c(0.5, 1) * c(equipment, row$lighting),
+             min = c(0.1, 0.5) * c(equipment, row$lighting),
+             max = 1.5 * c(equipment, row$lighting))
+}
+
+# The type's weekly occupancy: 1 in its opening hours, 0 otherwise (168
+# hours from Monday 0:00).
+type_occupancy <- function(type, call = rlang::caller_env()) {
+  row <- building_type(type, call = call)
+  day <- as.numeric(seq(0, 23) >= row$open & seq(0, 23) < row$close)
+  c(rep(day, 5), day * row$saturday, day * row$sunday)
+}

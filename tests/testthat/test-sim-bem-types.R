@@ -1,0 +1,48 @@
+test_that("building types carry the cited benchmarks and allowances", {
+  types <- bem_building_types()
+  office <- types[types$type == "office", ]
+  # TM46:2008 Table 1, General office: 95 and 120 kWh/m2; 90.1-2004: 1.0 W/ft2
+  expect_equal(c(office$electricity, office$fossil), c(95, 120))
+  expect_equal(office$lighting, 10.8)
+  expect_equal(types$electricity[types$type == "university"], 80)
+  expect_true(all(types$open < types$close))
+})
+
+test_that("a type's loads start and range around its benchmark", {
+  case <- bem_parameters()
+  campus <- bem_parameters(type = "university")
+  loads <- c("equipment_power_density", "lighting_power_density")
+  others <- !case$parameter %in% loads
+  expect_equal(campus[others, ], case[others, ])
+  at <- match(loads, campus$parameter)
+  expect_true(all(campus$min[at] < campus$initial[at] & campus$initial[at] < campus$max[at]))
+  # equipment in use (the model's mean share, 0.7) at its initial value:
+  # half the benchmark's mean power, 80 kWh/m2 over 8,760 hours
+  expect_equal(0.7 * campus$initial[at[1]], 80 / 8.76 / 2)
+  expect_equal(campus$initial[at[2]], 1.2 * 10.764, tolerance = 0.01)
+  expect_error(bem_parameters(type = "ofice"), "Did you mean", class = "bayesbem_error_argument")
+})
+
+test_that("a type's prior spans its benchmark's electricity", {
+  # a ventilation-only fan (1 l/s per m2), as in most uncooled campuses
+  area <- 5000
+  building <- bem_building_facts(area, floors = 3, type = "university", cooling = FALSE,
+                                 fan_flow = 1e-3 * area)
+  pars <- bem_parameters(type = "university")
+  sim <- bem_simulator(epw_monthly(shipped_epw(2013)), parameters = pars, building = building)
+  pars <- pars[pars$parameter %in% c("equipment_power_density", "lighting_power_density"), ]
+  runs <- simulate_design(sim, design_lhs(pars, 20, seed = 1))
+  annual <- tapply(runs$eta, rep(1:20, each = 12), sum) / area
+  expect_lt(min(annual), 80)
+  expect_gt(max(annual), 80)
+})
+
+test_that("a type's opening hours make the occupancy unless it is given", {
+  retail <- bem_building_facts(3000, type = "retail")
+  week <- matrix(retail$occupancy, 24)
+  expect_equal(colSums(week), c(rep(9, 6), 0))
+  expect_equal(which(week[, 1] == 1) - 1, 9:17)
+  own <- rep(0.5, 168)
+  expect_equal(bem_building_facts(3000, type = "retail", occupancy = own)$occupancy, own)
+  expect_equal(sum(bem_building_facts(3000, type = "hospital")$occupancy), 168)
+})
