@@ -16,6 +16,8 @@
 #'   `saturday`, `sunday`: whether the building opens those days (same hours).
 #'   These are common opening hours, not from the tables above: where meter
 #'   readings exist, [meter_occupancy()] estimates the schedule from them.
+#'   The lighting is taken to be in use while open and a tenth of it while
+#'   closed.
 #'
 #' @return A data frame with one row per type: `type`, `tm46_category`,
 #'   `electricity`, `fossil`, `lighting`, `open`, `close`, `saturday`,
@@ -52,20 +54,23 @@ building_type <- function(type, call = rlang::caller_env()) {
   types[types$type == match_choice(type, types$type, "type", call = call), ]
 }
 
-# The loads of a building type (bem_parameters(type =)): lighting around the
-# type's 90.1-2004 allowance (half of it, as an LED refit, to one and a half
-# times, older lamps); equipment from the part of the type's TM46
-# electricity the lighting leaves, as a power density in use (the embedded
-# model's mean share of equipment in use, 0.7): the initial value half of
-# the benchmark's mean power, the range from a tenth to one and a half times
-# it, so that the prior spans meters well below and above the benchmark.
+# The loads of a building type (bem_parameters(type =)), so that at their
+# initial values the embedded model uses the type's typical TM46
+# electricity: lighting at the type's 90.1-2004 allowance, in use its
+# share type_lighting_share() of the hours, and equipment (the case study's
+# mean share in use, 0.7) the rest, at least a quarter of it. Ranges: the
+# lighting from half the allowance (an LED refit) to one and a half times
+# (older lamps); the equipment from a tenth to one and a half times the
+# benchmark's whole mean power in use, so that the prior spans meters well
+# below and above the benchmark.
 type_loads <- function(type, call = rlang::caller_env()) {
   row <- building_type(type, call = call)
-  equipment <- row$electricity / 8.76 / 0.7
+  power <- row$electricity / 8.76
+  equipment <- max(power - type_lighting_share(type) * row$lighting, 0.25 * power) / 0.7
   data.frame(parameter = c("equipment_power_density", "lighting_power_density"),
-             initial = c(0.5, 1) * c(equipment, row$lighting),
-             min = c(0.1, 0.5) * c(equipment, row$lighting),
-             max = 1.5 * c(equipment, row$lighting))
+             initial = c(equipment, row$lighting),
+             min = c(0.1 * power / 0.7, 0.5 * row$lighting),
+             max = 1.5 * c(power / 0.7, row$lighting))
 }
 
 # The type's weekly occupancy: 1 in its opening hours, 0 otherwise (168
@@ -74,4 +79,12 @@ type_occupancy <- function(type, call = rlang::caller_env()) {
   row <- building_type(type, call = call)
   day <- as.numeric(seq(0, 23) >= row$open & seq(0, 23) < row$close)
   c(rep(day, 5), day * row$saturday, day * row$sunday)
+}
+
+# The mean share of the lighting in use (bem_building()'s
+# `lighting_fraction`): all of it while open, a tenth while closed
+# (cleaning, circulation, security).
+type_lighting_share <- function(type, call = rlang::caller_env()) {
+  open <- mean(type_occupancy(type, call = call))
+  open + 0.1 * (1 - open)
 }

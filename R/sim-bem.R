@@ -9,10 +9,13 @@
 #'
 #' With `type`, the loads (equipment and lighting power densities) start
 #' and range around what the type of use implies ([bem_building_types()]):
-#' lighting from half to one and a half times the type's ASHRAE 90.1-2004
-#' allowance; equipment from a tenth to one and a half times the power in
-#' use that the type's typical CIBSE TM46 electricity amounts to, starting
-#' at half of it. The other parameters are the case study's.
+#' at their initial values, in a building of that type
+#' (`bem_building_facts(type = )`), the lighting is the type's ASHRAE
+#' 90.1-2004 allowance and the two use the type's typical CIBSE TM46
+#' electricity; the lighting ranges from half to one and a half times the
+#' allowance, the equipment from a tenth to one and a half times the
+#' benchmark's mean power in use. The other parameters are the case
+#' study's.
 #'
 #' @param type A building type of [bem_building_types()] (e.g.
 #'   `"university"`), or `NULL` (the default): the case study's loads.
@@ -130,6 +133,8 @@ bem_building <- function(...) {
 #' With `type`, the occupancy is the type's opening hours
 #' ([bem_building_types()]), unless `occupancy` is given: common hours, not
 #' measured; [meter_occupancy()] estimates them from a meter's readings.
+#' The lighting's mean share in use (`lighting_fraction`) follows the
+#' opening hours (all of it while open, a tenth while closed).
 #'
 #' @param floor_area The floor area of all floors (m2).
 #' @param floors The number of floors.
@@ -158,7 +163,10 @@ bem_building_facts <- function(floor_area, floors = 1L, roof_area = floor_area /
                 floor_loss_factor = case$floor_loss_factor * footprint / floor_area,
                 occupant_gain = case$occupant_gain * ratio, outdoor_air = case$outdoor_air * ratio,
                 fan_flow = case$fan_flow * ratio)
-  if (!is.null(type)) facts$occupancy <- type_occupancy(type)
+  if (!is.null(type)) {
+    facts$occupancy <- type_occupancy(type)
+    facts$lighting_fraction <- type_lighting_share(type)
+  }
   facts[names(list(...))] <- list(...)
   rlang::inject(bem_building(!!!facts))
 }

@@ -16,10 +16,13 @@ test_that("a type's loads start and range around its benchmark", {
   expect_equal(campus[others, ], case[others, ])
   at <- match(loads, campus$parameter)
   expect_true(all(campus$min[at] < campus$initial[at] & campus$initial[at] < campus$max[at]))
-  # equipment in use (the model's mean share, 0.7) at its initial value:
-  # half the benchmark's mean power, 80 kWh/m2 over 8,760 hours
-  expect_equal(0.7 * campus$initial[at[1]], 80 / 8.76 / 2)
+  # at the initial values, lighting (in use 50 of 168 hours, a tenth of it
+  # otherwise) and equipment (0.7 in use) draw the benchmark's mean power,
+  # 80 kWh/m2 over 8,760 hours
+  lit <- 50 / 168 + 0.1 * 118 / 168
+  expect_equal(bem_building_facts(1000, type = "university")$lighting_fraction, lit)
   expect_equal(campus$initial[at[2]], 1.2 * 10.764, tolerance = 0.01)
+  expect_equal(lit * campus$initial[at[2]] + 0.7 * campus$initial[at[1]], 80 / 8.76)
   expect_error(bem_parameters(type = "ofice"), "Did you mean", class = "bayesbem_error_argument")
 })
 
