@@ -56,7 +56,7 @@
 #' matches it but the emulator has nothing to learn from. On the case
 #' study it puts fan efficiency, whose fan power goes as its reciprocal, on
 #' the reciprocal scale; what that does to convergence is measured in the
-#' package's benchmarks (`bench/RESULTS.md`, "Reliability").
+#' package's benchmarks (`bench/results/reliability.md`).
 #' `scales = "identity"` is the paper's model.
 #'
 #' @section Noise of periods of different lengths: The observation noise

@@ -44,7 +44,7 @@ parameter_scales <- function(scales, t, x, eta, call = rlang::caller_env()) {
 # down to 0 (infiltration), the log or reciprocal scale puts the run
 # nearest 0 far from all others, a fit to every run matches that run alone,
 # and the emulator then has one run at one end of the scale and the rest at
-# the other (inst/notes/design.md, D3).
+# the other (inst/notes/decisions/D3-parameter-scales.md).
 auto_scales <- function(t, x, eta, gain = 0.2) {
   run <- row_groups(t)
   # every parameter as it is: the same for each parameter's comparison

@@ -11,7 +11,8 @@
 #'
 #' Why: with many field rows the posterior is narrower than a small design's
 #' emulator error, which then sets where the intervals lie while every
-#' sampler check passes (`bench/RESULTS.md`, "Emulator error"). Runs over the posterior's
+#' sampler check passes (`bench/results/emulator-error.md`). Runs over the
+#' posterior's
 #' region make the emulator right where the calibration reads it; each round
 #' may move the posterior, hence the loop.
 #'

@@ -24,7 +24,7 @@
 #' were the emulator's error as it states it, `s - m(tf) ~ N(0, S_e)`:
 #' `Delta ~ N(0, A J' S^-1 S_e S^-1 J A)`. An error small at every period
 #' can still move the calibration when it is alike over many periods (a
-#' year of daily data: `bench/RESULTS.md`, "Emulator error"). An honest
+#' year of daily data: `bench/results/emulator-error.md`). An honest
 #' emulator's error moves the calibration too, by about its share of the
 #' posterior's spread, which the posterior already holds: the shift alone
 #' says nothing wrong, the shift beyond the stated error does. The check

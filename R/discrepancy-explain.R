@@ -118,7 +118,7 @@
 #' @param regions Also try steps in each input and each candidate's effect
 #'   in part of another input's range (see Details); [extend()] takes the
 #'   names it gives. With regions, false alarms stay near `alpha`
-#'   (`bench/RESULTS.md`, "Diagnosis on problems not tuned on") and an
+#'   (`bench/results/diagnosis.md`) and an
 #'   effect acting only in warm months is named with its region, which the
 #'   candidates alone miss ("False alarms and detection"). `FALSE` scores
 #'   the candidates alone (faster: a few terms instead of hundreds).

@@ -298,7 +298,7 @@ cv_gain <- function(r, basis, b, baseline = press(basis, r), line = FALSE,
 # The share of alpha each family of terms gets when regions are tried: the
 # main terms keep most of it; the many region terms, whose null is the
 # less certain (the emulator's error at a regime switch is step-shaped and
-# not in it), a fifth (chosen by measurement, bench/RESULTS.md).
+# not in it), a fifth (chosen by measurement, bench/results/).
 region_weights <- c(main = 0.8, region = 0.2)
 
 # Adjusted p-values: within each family of terms, the max-statistic

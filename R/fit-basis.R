@@ -11,7 +11,7 @@
 # the outputs' shape across periods, one correlation in the parameters for
 # every component, which understates the error that moves the calibration
 # at a year of daily data; components with their own length scales state
-# it (bench/RESULTS.md, "Emulator error" and "Basis emulator").
+# it (bench/results/emulator-error.md and basis-emulator.md).
 
 # Stage 1 of the basis emulator on a grid design: `mu`, the basis `B`,
 # `s2r`, the runs `tc` (scaled), the runs' weights `w` and one

@@ -79,8 +79,8 @@ sample_chains <- function(model, stan_data, label, chains, iter, warmup, seed, c
 # Why: at 8,760 hours the noise precision and phi are known to about
 # 1 / sqrt(n) and the discrepancy's length scales to about 1 (a condition
 # number of 30,000 on u), rstan takes no initial metric, and warm-up on the
-# unit metric ran at the maximum tree depth (bench/RESULTS.md, "A year of
-# hours"). Directions along which the density does not curve down keep unit
+# unit metric ran at the maximum tree depth (bench/results/year-hours.md).
+# Directions along which the density does not curve down keep unit
 # scale, none is wider than 10; the identity stays where no mode is found.
 laplace_map <- function(model, stan_data, seed) {
   instance <- stan_instance(model, stan_data)
@@ -117,7 +117,7 @@ log_prob_hessian <- function(instance, u, h = 1e-4) {
 # included (highest_mode()); "random" where no search can start. Why: with
 # thousands of rows the posterior is narrow, and from a random start the
 # first warm-up iterations, on the unit metric, run at the maximum tree
-# depth until they reach it (bench/RESULTS.md, "A year of hours").
+# depth until they reach it (bench/results/year-hours.md).
 mode_start <- function(model, stan_data, seed, chain) {
   instance <- stan_instance(model, stan_data)
   climb <- highest_mode(instance, random_starts(instance, mode_starts, seed %% 1e8 + chain))
@@ -131,7 +131,8 @@ mode_start <- function(model, stan_data, seed, chain) {
 # is not enough: an additive discrepancy with a short length scale in an
 # input can mimic a parameter's effect (the equipment schedule, by
 # `daytype_hour`), and BFGS's first steps often fly into such a mode, a
-# local one far below the mode near the truth (inst/notes/design.md, F3).
+# local one far below the mode near the truth
+# (inst/notes/decisions/F3-stage-2-from-random-inits-with.md).
 mode_starts <- 8L
 
 # The starts of laplace_map()'s search on koh_basis.stan's u (z = u while
@@ -142,7 +143,7 @@ mode_starts <- 8L
 # some input's is short in nearly every start, and the climb can end where
 # that input's discrepancy mimics a parameter; from a simulator that
 # explains the data first, it reaches the mode near the truth
-# (inst/notes/design.md, F3).
+# (inst/notes/decisions/F3-stage-2-from-random-inits-with.md).
 basis_starts <- function(instance, stan_data, seed) {
   random <- random_starts(instance, mode_starts, seed)
   sizes <- basis_u_sizes(stan_data)

@@ -18,8 +18,8 @@
 #' and the sampler had no trouble, the hint says so and advises runs where
 #' the posterior lies ([design_posterior()]): with few runs such failures
 #' are common while the calibration parameters converge, and runs from
-#' [design_posterior()] removed most of them (`inst/notes/design.md`,
-#' "Sampling"). When stage 2
+#' [design_posterior()] removed most of them
+#' (`inst/notes/decisions/G2-runs-where-the-posterior-lies.md`). When stage 2
 #' of a modular fit kept chains in a minor mode that puts the calibration
 #' parameters elsewhere (see `minor_modes` in [calibrate()]), the hint names
 #' them and advises checking the emulator over both modes.
@@ -126,7 +126,7 @@ warn_convergence <- function(conv) {
 # With few runs per parameter the chains that disagree only on the
 # emulator's length scales sit in modes of similar posterior mass, seldom
 # crossed; runs where the posterior lies removed them in most problems
-# measured (inst/notes/design.md, "Sampling").
+# measured (inst/notes/decisions/G2-runs-where-the-posterior-lies.md).
 emulator_modes_hint <- function() {
   c(i = paste("Only the emulator's hyperparameters failed: the calibration parameters,",
               "the discrepancy and the noise passed. Few runs leave the emulator's length",

@@ -15,7 +15,7 @@
 # only its Gram matrix with the runs' basis and the outputs
 # (koh_basis.stan), computed once. Additive rather than the product
 # kernel of the exact programs: a product over p inputs needs m^p
-# functions (inst/notes/design.md, "Discrepancy at scale").
+# functions (inst/notes/decisions/S9-discrepancy-at-scale.md).
 
 # The basis functions of each input: `m` frequencies omega_j = pi j / (2
 # L) on [-L, L], L = `boundary` / 2 (the inputs' half-range times

@@ -1,4 +1,4 @@
-# Chains in minor modes (inst/notes/design.md, F8): each chain's mode's
+# Chains in minor modes (inst/notes/decisions/F8-minor-modes.md): each chain's mode's
 # posterior mass from its own draws, which chains to drop, restart or
 # keep, and the messages that say so.
 
@@ -8,7 +8,7 @@
 # whose mode puts a calibration parameter outside the main mode's 90 %
 # interval are kept: with the emulator fixed, such a mode can be the
 # emulator's error between runs rather than the posterior's
-# (inst/notes/design.md, F8), and R-hat
+# (inst/notes/decisions/F8-minor-modes.md), and R-hat
 # then shows the disagreement instead of a confident wrong answer.
 settle_minor_modes <- function(draws, divergent, keep_moved = FALSE) {
   modes <- minor_mode_chains(draws, divergent)
@@ -63,7 +63,7 @@ moved_tf <- function(minor_tf) {
 # when the best chain stands alone they are run again from its draws
 # instead, provided it had no divergent transition (`divergent`, per
 # chain). Why a gap of 5 (a mode under 0.7 % of the mass):
-# inst/notes/design.md, F8.
+# inst/notes/decisions/F8-minor-modes.md.
 minor_mode_chains <- function(draws, divergent = integer(dim(draws)[2]), gap = 5) {
   none <- list(drop = integer(0), restart = integer(0), from = NULL)
   if (dim(draws)[2] < 2L) {

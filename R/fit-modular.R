@@ -9,7 +9,7 @@
 # that the field data favour at large n, and makes each stage-2 gradient one
 # n x n Cholesky factor. A mode rather than draws: with few runs the
 # posterior of the length scales has modes of equal mass that chains cross
-# once in thousands of draws (bench/RESULTS.md), so no fit that samples
+# once in thousands of draws (bench/results/), so no fit that samples
 # them passes R-hat, while the calibration agrees across them.
 
 # Stage 1: the emulator at the posterior mode of its hyperparameters given

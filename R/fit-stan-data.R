@@ -284,8 +284,8 @@ hsgp_stan_data <- function(sd, design, segments = NULL) {
 # The scale koh_basis.stan samples tf on, passed to it as data: `edge`, the
 # width a of g's exponential tails (linear_box_lp(), linear_box_inverse()),
 # and `multiplier`, the unit of tf_u for Stan (the logit's scale at tf = 1/2,
-# so that NUTS's first, unit metric fits; inst/notes/design.md, "Stage-2
-# geometry").
+# so that NUTS's first, unit metric fits;
+# inst/notes/decisions/F5-a-linear-scale-for-tf-in.md).
 linear_box <- list(edge = 0.05, multiplier = 0.25)
 
 # Starting values given for tf (a list per chain, as rstan::sampling()

@@ -37,7 +37,7 @@
 #'   The additive discrepancy's chains start at a mode, so they also take
 #'   `max_treedepth = 8` and a first metric after 25 warm-up iterations
 #'   (`adapt_init_buffer = 25`). Each default is the one that converged most often in the reliability
-#'   benchmark (`bench/RESULTS.md`, "Reliability").
+#'   benchmark (`bench/results/reliability.md`).
 #' @param predict_at Optional data frame of observable inputs at which the
 #'   calibrated output is sampled inside Stan as extra parameters (the
 #'   paper's Appendix D; about twice as slow). Read them with
@@ -72,7 +72,7 @@
 #'   (and `predict_at` not given), jointly otherwise: in the reliability
 #'   benchmark the two-stage fit converged far more often, covered the
 #'   truth about as often and took a fraction of the time
-#'   (`bench/RESULTS.md`, "Reliability").
+#'   (`bench/results/reliability.md`).
 #' @param emulator The emulator stage 2 of a modular fit calibrates with:
 #'   `"separable"`, the Gaussian process of the paper, whose correlation is
 #'   a product of one over the observable inputs and one over the
@@ -85,7 +85,7 @@
 #'   Both give the emulator's uncertainty at the calibration parameters to
 #'   stage 2; the separable one gives it the outputs' shape across the
 #'   periods, which at a year of daily data understates the error that
-#'   moves the calibration (`bench/RESULTS.md`). Predictions,
+#'   moves the calibration (`bench/results/`). Predictions,
 #'   leave-one-out and the discrepancy tools use the separable emulator
 #'   fitted at stage 1 in either case; [validate_emulator()] and
 #'   [identifiability()] read the one stage 2 used. A basis fit's stage 2
@@ -105,11 +105,11 @@
 #'   and variance `1 / (p lambda_delta)`, in the Hilbert-space
 #'   approximation of Riutort-Mayol et al. (2023): 40 basis functions per
 #'   input, within 0.025 of the kernel's variance, so that a gradient's
-#'   cost does not grow with the rows (`bench/RESULTS.md`, "Gradient
-#'   cost"). Needs the basis emulator and periods of one length. `"auto"`
+#'   cost does not grow with the rows (`bench/results/gradient.md`). Needs the
+#'   basis emulator and periods of one length. `"auto"`
 #'   (the default) is `"additive"` above 400 field rows (in the largest
 #'   output) when it can be, `"product"` otherwise: the posteriors agree
-#'   where both run (`bench/RESULTS.md`, "Discrepancy kernel"). A sum
+#'   where both run (`bench/results/discrepancy-kernel.md`). A sum
 #'   cannot hold an effect of two inputs together (a load of weekend
 #'   hours alone), which then biases the parameters: give such a
 #'   combination as an input of its own, as the hourly simulators'
@@ -182,7 +182,7 @@
 #'   by R's LAPACK when R is linked to an optimised BLAS (OpenBLAS, MKL,
 #'   BLIS, ATLAS or Apple's Accelerate, told by the name of
 #'   `extSoftVersion()[["BLAS"]]`), which is faster at large n
-#'   (`bench/RESULTS.md`, "Gradient cost"). To speed up such fits, link R to
+#'   (`bench/results/gradient.md`). To speed up such fits, link R to
 #'   OpenBLAS, its serial build since the chains already share the cores
 #'   (on Debian or Ubuntu, `apt install libopenblas0-serial`).
 #'
@@ -360,12 +360,13 @@ fit_stage1 <- function(data, priors, seed, on_failure, emulator) {
 
 # The iterations and sampler control of a fit whose caller gives none: for
 # each size and emulator, what converged most often in the reliability
-# benchmark (bench/RESULTS.md, "Reliability"; why in inst/notes/design.md,
-# "Sampling" and "Stage-2 geometry"). The additive discrepancy's chains
+# benchmark (bench/results/reliability.md; why in
+# inst/notes/decisions/G2-runs-where-the-posterior-lies.md and
+# F5-a-linear-scale-for-tf-in.md). The additive discrepancy's chains
 # start at a mode (mode_start()) and sample through the Laplace
 # approximation at one (laplace_map()), so 500 + 500 iterations, a first
 # metric after 50 (not 100) and trees of at most 2^8 steps
-# (bench/RESULTS.md, "A year of hours").
+# (bench/results/year-hours.md).
 default_sampling <- function(modular, n, emulator = "separable", kernel = "product") {
   if (kernel == "additive") {
     return(list(iter = 1000L, warmup = 500L,
@@ -411,7 +412,7 @@ default_path <- function(data) {
 }
 
 # What a fit costs: seconds per gradient per cubed row of the matrix it
-# factors, by likelihood (bench/RESULTS.md: "Scaling" for the dense one,
+# factors, by likelihood (bench/results/scaling.md for the dense one,
 # "Gradient cost" at n = 365 for the joint grid's field block and stage
 # 2's, and by hour for the additive discrepancy's factor of its basis
 # functions and components), and gradients per iteration (7e4 in a
@@ -555,8 +556,8 @@ additive_rows <- 400L
 # noise_correlation = "auto": "ar1" where it applies, the additive
 # discrepancy over rows with times of which some follow one another (meter
 # data: their residuals persist); AR(1) holds white noise at phi = 0, its
-# cost and the months' intervals with either noise: bench/RESULTS.md, "A
-# year of hours". Elsewhere "none" (the paper's). "ar1" needs the additive
+# cost and the months' intervals with either noise: bench/results/year-hours.md.
+# Elsewhere "none" (the paper's). "ar1" needs the additive
 # discrepancy (its likelihood reads the rows through Gram matrices, which
 # the AR(1) precision keeps tridiagonal) and the field rows' times
 # (field_segments()).

@@ -23,7 +23,7 @@
 #' already explained. Use "scaled" when a linear mean explains nearly all
 #' of the runs (a small `v`) and the fit's
 #' `lambda_eta` sits far above its prior; measured on the benchmark
-#' (`bench/RESULTS.md`), it did not make more fits converge at `v` near
+#' (`bench/results/`), it did not make more fits converge at `v` near
 #' 0.2, so it is not the default.
 #'
 #' @param tf A named list of priors for the calibration parameters, each made

@@ -316,7 +316,8 @@ bem_hourly_simulator <- function(path, parameters, building, output, by) {
 # lets a discrepancy additive over the inputs (fit-hsgp.R) hold an effect
 # of the hour on weekends alone (a weekend plug load), which a sum of a
 # weekday and an hour effect cannot (the parameters took it up), and the
-# hour beside it would only add cost (inst/notes/design.md, S10).
+# hour beside it would only add cost
+# (inst/notes/decisions/S10-an-hour-profile-per-day-type.md).
 interval_inputs <- function(weather, by) {
   x <- weather_inputs(weather, FALSE)
   if (by %in% c("day", "hour")) x$weekday <- weather$weekday

@@ -4,7 +4,7 @@
 # gradient at large n, and R's LAPACK runs on the BLAS R is linked to:
 # faster than Eigen on an optimised one (OpenBLAS, MKL, BLIS, ATLAS, Apple's
 # Accelerate), slower on the reference BLAS R ships by default
-# (bench/RESULTS.md, "Gradient cost"). The choice is made from R's BLAS,
+# (bench/results/gradient.md). The choice is made from R's BLAS,
 # not timed, so that a seeded fit is repeatable on a machine.
 # The option `bayesbem.lapack` (TRUE or FALSE) overrides it.
 use_lapack <- function(call = rlang::caller_env()) {
@@ -29,7 +29,7 @@ optimised_blas <- function(blas) {
 # Tells once per session, when a fit with a large field covariance (the grid
 # and modular programs at more than 120 field rows) runs on Eigen because
 # R's BLAS is not a known optimised one (optimised_blas()), that an
-# optimised BLAS would be faster (bench/RESULTS.md, "Gradient cost").
+# optimised BLAS would be faster (bench/results/gradient.md).
 # Silent when the user chose
 # the path with the option `bayesbem.lapack`.
 inform_blas <- function(n, lapack, field_density) {

@@ -21,7 +21,7 @@
 # hidden effect of one shape, noise (sd 15 kWh a month; 40 kWh a month and
 # 3 kWh a day on EnergyPlus); 30 runs (one Latin hypercube per simulator;
 # 60 by hour, where 30 left the basis emulator's error far from its stated
-# size: bench/RESULTS.md, "Diagnosis on problems not tuned on");
+# size: bench/results/diagnosis.md);
 # fits of 2 chains x 600 at adapt_delta 0.9. Shapes and the names that
 # count as right:
 #   none            no effect (a false alarm is any cause named)

@@ -7,8 +7,8 @@
 # (BENCH_DAYS days from 7 March, default 7: across the change to
 # daylight-saving time on the 10th); 15 runs, the runs' rows at the
 # meter's hours; calibrate()'s defaults. Reported: the 90 % intervals
-# holding the truth, convergence, the fit's wall time (bench/RESULTS.md,
-# "Smart-meter data"; a year of hours: bench-year-hours.R).
+# holding the truth, convergence, the fit's wall time
+# (bench/results/interval.md; a year of hours: bench-year-hours.R).
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-interval.R [problems] [embedded|eplus]  (default 3 embedded)
 #   eplus needs BAYESBEM_EPLUS; BENCH_CACHE: a directory for cached runs.

@@ -6,7 +6,7 @@
 // R's LAPACK runs on the BLAS R is linked to: with an optimised BLAS
 // (OpenBLAS, MKL, BLIS, Accelerate) a stage-2 gradient at n = 365 takes
 // less than half of Eigen's time, with the reference BLAS three times
-// Eigen's (bench/RESULTS.md), hence the choice in R (use_lapack(),
+// Eigen's (bench/results/), hence the choice in R (use_lapack(),
 // R/utils-lapack.R).
 #define USE_FC_LEN_T
 #include <R_ext/BLAS.h>
@@ -20,7 +20,7 @@
 // the diagonal halves inverted first, then L21 multiplied by them (dtrmm).
 // Nearly all the flops are then in dtrmm: at n = 365 on OpenBLAS 0.3.21
 // this takes a third of the time of OpenBLAS's own dtrtri
-// (inst/notes/design.md, "Hand-written gradient of the field density").
+// (inst/notes/decisions/S7-a-hand-written-gradient-for-the.md).
 static int invert_lower(int n, double* a, int lda) {
   int info = 0;
   if (n <= 16) {

@@ -2,7 +2,7 @@
 // and defined here with its analytic gradient. It is the cost of every
 // gradient of the grid and modular programs at large n, where Stan's
 // reverse mode through an n x n Cholesky factor is several times slower
-// than this analytic gradient (bench/RESULTS.md, "Gradient cost").
+// than this analytic gradient (bench/results/gradient.md).
 //
 // This file is included by stan_meta_header.hpp inside each model's
 // namespace, after the functions the Stan code defines and before the model

@@ -1,6 +1,7 @@
 // Stage 2 of the modular KOH fit with a principal-component (basis)
 // emulator (Higdon, Gattiker, Williams & Rightley 2008, JASA 103;
-// inst/notes/design.md, "Basis emulator"): the calibration parameters, the
+// inst/notes/decisions/F4-the-basis-emulator-for-daily-data.md): the
+// calibration parameters, the
 // discrepancy and the noise, given the runs at the field rows, whose
 // centred outputs are B W' plus the truncated components (variance s2r per
 // row), each column of W emulated over the parameters by its own Gaussian
@@ -9,8 +10,9 @@
 // each gradient one Cholesky factor and one inverse of an n x n matrix (C++,
 // normal_basis_lpdf()). tf is sampled on a scale linear inside [0, 1]
 // (linear_box_lp()), where the ridge a year of daily data leaves is
-// straight, so that a dense metric fits it (inst/notes/design.md, "Stage-2
-// geometry"). The separable emulator of stage 1 is passed through to the
+// straight, so that a dense metric fits it
+// (inst/notes/decisions/F5-a-linear-scale-for-tf-in.md). The separable emulator
+// of stage 1 is passed through to the
 // generated quantities: the package predicts with it.
 //
 // Several outputs (meters) share tf; each has its own basis, components,
@@ -30,7 +32,7 @@ functions {
    * to the target (change of variables). Used here in place of
    * Stan's logit: the ridge that a year of daily data leaves along the
    * parameters is straight on [0, 1] and bends on the logit scale
-   * (inst/notes/design.md, "Stage-2 geometry"). */
+   * (inst/notes/decisions/F5-a-linear-scale-for-tf-in.md). */
   vector linear_box_lp(vector u, real a) {
     vector[rows(u)] tf;
     for (k in 1:rows(u)) {

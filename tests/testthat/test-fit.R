@@ -240,7 +240,7 @@ test_that("wrong argument types say what they are", {
   expect_error(calibrate(seb_field, seb_sim, iter = 1.5), class = "bayesbem_error_argument")
 })
 
-# The defaults by size and emulator (bench/RESULTS.md, "Reliability")
+# The defaults by size and emulator (bench/results/reliability.md)
 test_that("default sampling depends on the kind of fit and the data size", {
   careful <- list(iter = 4000L, warmup = 2000L, control = list(adapt_delta = 0.99))
   expect_equal(bayesbem:::default_sampling(FALSE, 12), careful)
@@ -273,7 +273,7 @@ test_that("three years of bills with 30 runs converge with the defaults (a seede
   # problem 3 of bench/bench-reliability.R at n = 36, mt = 30 with its seed:
   # with the defaults (modular, 4000 iterations at adapt_delta 0.99) max
   # R-hat 1.003 and 2083 effective draws, under 2 minutes on 2 cores
-  # (bench/RESULTS.md)
+  # (bench/results/)
   problem <- bayesbem:::synthetic_problem(36, 30, 3)
   expect_equal(nrow(problem$field), 36)
   fit <- calibrate(problem$field, problem$runs, seed = test_seed(4003), cores = 2)

@@ -106,8 +106,9 @@
                          vector d, int lapack);
 
   /* The components of a principal-component emulator at tf (Higdon,
-   * Gattiker, Williams & Rightley 2008, JASA 103; inst/notes/design.md,
-   * "Basis emulator"): component j is a Gaussian process over the
+   * Gattiker, Williams & Rightley 2008, JASA 103;
+   * inst/notes/decisions/F4-the-basis-emulator-for-daily-data.md): component j
+   * is a Gaussian process over the
    * parameters fitted to the runs' weights, so given them its mean is
    * h(tf)' b_j + k_j' alpha_j and its variance s2_j (1 + nug_j) -
    * k_j' Kj^-1 k_j, with h(tf) = (1, tf), k_j[a] = s2_j exp(-sum_k
@@ -132,8 +133,7 @@
     return out;
   }
 
-  /* The field outputs given the runs on a grid (inst/notes/design.md, "Grid
-   * designs"):
+  /* The field outputs given the runs on a grid (inst/notes/decisions/S6-grid-designs.md):
    *   y | E ~ N((E w)[1:n], c Kx_ff / lambda_eta + Sigma_delta + diag(noise_weight) / lambda_e),
    * w = Kt^-1 k0 and c = 1 + nugget - k0' Kt^-1 k0, from the Cholesky factor
    * Lt of Kt and k0 = k_t(tf, t_a). Returns append_row(w, c). */
