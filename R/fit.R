@@ -233,18 +233,76 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       discrepancy_kernel = c("auto", "product", "additive"),
                       noise_correlation = c("auto", "none", "ar1"), minor_modes = c("drop", "keep"),
                       progress = getOption("bayesbem.progress", TRUE), ...) {
+  spec <- calibration_spec(field, sim, priors = priors, chains = chains, iter = iter,
+                           warmup = warmup, cores = cores, control = control,
+                           predict_at = predict_at, structure = structure,
+                           covariates = covariates, modular = modular, emulator = emulator,
+                           discrepancy_kernel = discrepancy_kernel,
+                           noise_correlation = noise_correlation, minor_modes = minor_modes,
+                           dots = list(...))
+  seed <- seed %||% sample.int(.Machine$integer.max, 1L)
+  check_count(seed)
+  check_bool(progress)
+  data <- spec$data
+  fit_env <- environment()
+  sampler <- list(chains = chains, iter = spec$iter, warmup = spec$warmup, seed = seed,
+                  cores = min(cores, chains), control = spec$control, args = list(...),
+                  progress = progress, minor_modes = spec$minor_modes,
+                  on_failure = function(messages) {
+                    abort_sampling_failure(output_data(data)[[1]], priors$nugget, spec$structure,
+                                           messages, call = fit_env)
+                  })
+  # the emulator named by the spec; stage 1 is the fitted emulator (of each output)
+  stage1 <- if (spec$modular) fit_stage1(data, priors, seed, sampler$on_failure, spec$emulator)
+  if (spec$modular) sampler$args$init <- stage2_inits(sampler$args$init, spec$emulator)
+  sampler$start_at_mode <- spec$discrepancy_kernel == "additive"
+  hsgp <- if (spec$discrepancy_kernel == "additive") hsgp_design()
+  program <- stan_program(data, priors, stage1, spec$emulator, spec$modular, spec$structure,
+                          predict_at, hsgp, spec$noise_correlation == "ar1")
+  label <- sprintf("%s %d chain%s", if (spec$modular) "Stage 2: sampling" else "Sampling",
+                   chains, if (chains > 1L) "s" else "")
+  stanfit <- do.call(sample_chains, c(list(program$model, program$data, label = label,
+                                           keep_moved = spec$modular), sampler))
+  settings <- list(chains = chains, iter = spec$iter, warmup = spec$warmup, seed = seed,
+                   control = spec$control, structure = spec$structure, modular = spec$modular,
+                   emulator = spec$emulator, discrepancy_kernel = spec$discrepancy_kernel,
+                   hsgp = hsgp, noise_correlation = spec$noise_correlation,
+                   minor_modes = spec$minor_modes, lapack = spec$lapack,
+                   dropped = attr(stanfit, "dropped"), restarted = restarted_chains(stanfit),
+                   kept_moved = attr(stanfit, "kept_moved"))
+  fit <- stanfit_fit(stanfit, data, priors, settings, emulator = stage1,
+                     predict_at = if (!is.null(predict_at)) predict_at[data$names$x])
+  if (spec$several) fit <- with_output_views(fit)
+  inform_minor_modes(fit$settings$dropped, fit$settings$restarted,
+                     moved_parameters(output_fit_list(fit)[[1]], attr(stanfit, "minor_tf")),
+                     fit$settings$kept_moved)
+  check_convergence(fit)
+  warn_range_limits(fit)
+  fit
+}
+
+# Every choice of a fit resolved from the data and calibrate()'s arguments,
+# and every check that needs no sampling (sampler arguments, the size, the
+# prior's reach): what calibrate() samples with, and what
+# calibrate_portfolio() checks before sending a building to a worker.
+calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, control,
+                             predict_at, structure, covariates, modular, emulator,
+                             discrepancy_kernel, noise_correlation, minor_modes, dots,
+                             call = rlang::caller_env()) {
+  # the checks' errors name the caller's verb, not this helper
+  rlang::local_error_call(call)
   data <- as_koh_data(field, sim)
   several <- inherits(data, "bayesbem_outputs")
   data <- if (several) add_output_terms(data, covariates) else add_discrepancy_terms(data, covariates)
   if (!is.null(covariates) && !is.null(predict_at)) {
     abort_bayesbem(c("{.arg predict_at} cannot be combined with {.arg covariates}.",
                      i = "Predict after the fit with {.fn predict}, giving the covariates in {.arg newdata}."),
-                   "argument")
+                   "argument", call = call)
   }
-  check_control_misplaced(list(...))
-  check_dots_in(list(...), sampling_arguments(), "rstan::sampling()")
+  check_control_misplaced(dots)
+  check_dots_in(dots, sampling_arguments(), "rstan::sampling()")
   check_priors(priors)
-  asked <- match_choice(structure)
+  asked <- match_choice(structure, c("auto", "grid", "dense"), "structure", call = call)
   if (several) {
     check_outputs_path(asked, modular, predict_at)
     structure <- "grid"
@@ -254,61 +312,28 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
     inform_dense(data, structure, asked)
     modular <- choose_modular(modular, data, structure)
   }
-  emulator_type <- choose_emulator(match_choice(emulator), modular, data)
-  discrepancy_kernel <- choose_discrepancy_kernel(match_choice(discrepancy_kernel), emulator_type,
-                                                  data)
-  noise_correlation <- choose_noise_correlation(match_choice(noise_correlation),
-                                                discrepancy_kernel, data)
-  defaults <- default_sampling(modular, largest_output(data), emulator_type, discrepancy_kernel)
+  emulator <- choose_emulator(match_choice(emulator, c("auto", "separable", "basis"), "emulator",
+                                           call = call), modular, data)
+  discrepancy_kernel <- choose_discrepancy_kernel(
+    match_choice(discrepancy_kernel, c("auto", "product", "additive"), "discrepancy_kernel",
+                 call = call), emulator, data)
+  noise_correlation <- choose_noise_correlation(
+    match_choice(noise_correlation, c("auto", "none", "ar1"), "noise_correlation", call = call),
+    discrepancy_kernel, data)
+  defaults <- default_sampling(modular, largest_output(data), emulator, discrepancy_kernel)
   check_count(chains)
   check_count(cores)
   lengths <- sampling_lengths(iter, warmup, defaults)
-  iter <- lengths$iter
-  warmup <- lengths$warmup
-  seed <- seed %||% sample.int(.Machine$integer.max, 1L)
-  check_count(seed)
-  check_bool(progress)
   lapack <- use_lapack()
-  control <- merge_control(control, defaults$control)
-  minor_modes <- match_choice(minor_modes)
   inform_blas(largest_output(data), lapack, modular || structure == "grid")
-  check_fit_size(fit_size(data, structure, modular, iter, discrepancy_kernel), min(cores, chains))
+  check_fit_size(fit_size(data, structure, modular, lengths$iter, discrepancy_kernel),
+                 min(cores, chains))
   check_prior_covers(data)
-  fit_env <- environment()
-  sampler <- list(chains = chains, iter = iter, warmup = warmup, seed = seed,
-                  cores = min(cores, chains), control = control, args = list(...),
-                  progress = progress, minor_modes = minor_modes, on_failure = function(messages) {
-                    abort_sampling_failure(output_data(data)[[1]], priors$nugget, structure,
-                                           messages, call = fit_env)
-                  })
-  # `emulator` names the choice; stage 1 is the fitted emulator (of each output)
-  stage1 <- if (modular) fit_stage1(data, priors, seed, sampler$on_failure, emulator_type)
-  if (modular) sampler$args$init <- stage2_inits(sampler$args$init, emulator_type)
-  sampler$start_at_mode <- discrepancy_kernel == "additive"
-  hsgp <- if (discrepancy_kernel == "additive") hsgp_design()
-  program <- stan_program(data, priors, stage1, emulator_type, modular, structure, predict_at,
-                          hsgp, noise_correlation == "ar1")
-  model <- program$model
-  stan_data <- program$data
-  label <- sprintf("%s %d chain%s", if (modular) "Stage 2: sampling" else "Sampling", chains,
-                   if (chains > 1L) "s" else "")
-  stanfit <- do.call(sample_chains, c(list(model, stan_data, label = label, keep_moved = modular),
-                                      sampler))
-  settings <- list(chains = chains, iter = iter, warmup = warmup, seed = seed, control = control,
-                   structure = structure, modular = modular, emulator = emulator_type,
-                   discrepancy_kernel = discrepancy_kernel, hsgp = hsgp,
-                   noise_correlation = noise_correlation, minor_modes = minor_modes,
-                   lapack = lapack, dropped = attr(stanfit, "dropped"),
-                   restarted = restarted_chains(stanfit), kept_moved = attr(stanfit, "kept_moved"))
-  fit <- stanfit_fit(stanfit, data, priors, settings, emulator = stage1,
-                     predict_at = if (!is.null(predict_at)) predict_at[data$names$x])
-  if (several) fit <- with_output_views(fit)
-  inform_minor_modes(fit$settings$dropped, fit$settings$restarted,
-                     moved_parameters(output_fit_list(fit)[[1]], attr(stanfit, "minor_tf")),
-                     fit$settings$kept_moved)
-  check_convergence(fit)
-  warn_range_limits(fit)
-  fit
+  list(data = data, several = several, structure = structure, modular = modular,
+       emulator = emulator, discrepancy_kernel = discrepancy_kernel,
+       noise_correlation = noise_correlation, iter = lengths$iter, warmup = lengths$warmup,
+       control = merge_control(control, defaults$control), lapack = lapack,
+       minor_modes = match_choice(minor_modes, c("drop", "keep"), "minor_modes", call = call))
 }
 
 # The Stan program of a fit and its data (R/fit-stan-data.R), one row per

@@ -22,6 +22,15 @@ check_count <- function(x, arg = rlang::caller_arg(x), call = rlang::caller_env(
   invisible(x)
 }
 
+# Checks that `x` is one non-empty string.
+check_string <- function(x, arg = rlang::caller_arg(x), call = rlang::caller_env()) {
+  if (!rlang::is_string(x) || !nzchar(x)) {
+    abort_bayesbem("{.arg {arg}} must be a non-empty string, not {describe_value(x)}.",
+                   "argument", call = call)
+  }
+  invisible(x)
+}
+
 # Checks that `x` is TRUE or FALSE.
 check_bool <- function(x, arg = rlang::caller_arg(x), call = rlang::caller_env()) {
   if (!rlang::is_bool(x)) {

@@ -16,6 +16,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   r-cran-posterior r-cran-bayesplot r-cran-loo r-cran-ggplot2 \
   r-cran-checkmate r-cran-cli r-cran-codetools r-cran-rlang r-cran-withr \
   r-cran-lhs r-cran-future r-cran-future.apply r-cran-progressr \
+  r-cran-batchtools r-cran-future.batchtools r-cran-callr \
   r-cran-testthat r-cran-roxygen2 r-cran-knitr r-cran-rmarkdown r-cran-vdiffr \
   r-cran-rcpparmadillo r-cran-proxy r-cran-clue r-cran-ggrepel r-cran-rspectra \
   r-cran-shinyjs r-cran-iterators r-cran-modeltools r-cran-foreach \
