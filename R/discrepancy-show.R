@@ -113,11 +113,14 @@ discrepancy_verdict <- function(d, level) {
     return(sprintf("The simulator is consistent with the data: the %g%% simultaneous band of y - eta contains zero at every point.",
                    100 * level))
   }
+  # the points named, up to ten (hourly data flag thousands)
   describe <- function(rows, word) {
     if (nrow(rows) == 0L) return(NULL)
-    sprintf("%s at point%s %s (by %s%% of the output on average)", word,
-            if (nrow(rows) > 1L) "s" else "", paste(rows$point, collapse = ", "),
-            format(mean(abs(rows$residual_share)), digits = 2))
+    named <- if (nrow(rows) <= 10L) paste(rows$point, collapse = ", ") else
+      sprintf("%d points, the first %s", nrow(rows), paste(head(rows$point, 5L), collapse = ", "))
+    sprintf("%s at %s%s (by %s%% of the output on average)", word,
+            if (nrow(rows) > 1L && nrow(rows) <= 10L) "points " else if (nrow(rows) == 1L) "point " else "",
+            named, format(mean(abs(rows$residual_share)), digits = 2))
   }
   parts <- c(describe(flagged[flagged$residual_mean > 0, ], "under-predicts"),
              describe(flagged[flagged$residual_mean < 0, ], "over-predicts"))

@@ -2,13 +2,18 @@
 print.bayesbem_portfolio <- function(x, level = 0.9, ...) {
   rlang::check_dots_empty()
   s <- summary(x, level = level)
-  status <- table(factor(s$buildings$status, c("done", "failed", "refused", "missing")))
-  cat_lines("A portfolio of {nrow(s$buildings)} building{?s} in {.file {x$dir}}: ",
-            "{status[['done']]} done, {status[['failed']]} failed, {status[['refused']]} refused, {status[['missing']]} missing.")
+  b <- s$buildings
+  status <- table(factor(b$status, c("done", "failed", "refused", "missing")))
+  cat_lines(paste("A portfolio of {nrow(b)} building{?s} in {.file {x$dir}}:",
+                  "{status[['done']]} done, {status[['failed']]} failed, {status[['refused']]} refused, {status[['missing']]} missing."))
   if (!is.null(s$total)) {
     cat_lines("Total savings {signif(s$total$savings, 3)} ({100 * level} % interval {signif(s$total$lower, 3)} to {signif(s$total$upper, 3)}) over {s$total$buildings} building{?s}; FSU {signif(s$total$fsu, 2)} (Guideline 14's aggregate: {signif(s$total$fsu_guideline14, 2)}).")
   }
-  print_rounded(s$buildings, 3)
+  print_rounded(b[setdiff(names(b), c("verdict", "error"))], 3)
+  stopped <- b[!is.na(b$error), ]
+  # errors as they are (cli would read braces in them)
+  first_lines <- vapply(strsplit(stopped$error, "\n"), `[`, "", 1L)
+  if (nrow(stopped) > 0L) cat(sprintf("%s (%s): %s", stopped$id, stopped$status, first_lines), sep = "\n")
   invisible(x)
 }
 

@@ -32,6 +32,14 @@ test_that("the verdict says consistent, or names the points and the sign", {
   expect_match(verdict, "over-predicts at point 4 \\(by 15%")
 })
 
+test_that("the verdict on thousands of points names a few", {
+  hours <- data.frame(point = 1:6550, obs = 100, residual_mean = 50, residual_share = 50,
+                      flag = TRUE)
+  verdict <- bayesbem:::discrepancy_verdict(hours, 0.9)
+  expect_match(verdict, "under-predicts at 6550 points, the first 1, 2, 3, 4, 5 \\(by 50%")
+  expect_lt(nchar(verdict), 200)
+})
+
 test_that("the simultaneous band holds its level over all points at once", {
   # 20 independent standard normal points: a pointwise 90 % interval misses
   # some point in most draws, the band in 10 % of them

@@ -1,0 +1,86 @@
+# Benchmark: portfolios of buildings with known truth (calibrate_portfolio()).
+# Each building: the embedded monthly model under 2013's weather with its
+# own true equipment power density and infiltration (uniform over their
+# ranges' middle), twelve bills with 3 % noise, 10 runs over the two
+# parameters, calibrate()'s defaults, the savings of equipment x 0.7 over
+# the year (20 draws). The true savings: the model at the truth, baseline
+# less retrofit.
+#   coverage: over P portfolios of B buildings, how often the 90 %
+#     interval of the portfolio's total holds the true total, and how often
+#     Guideline 14's aggregate FSU (total +- FSU x total) does;
+#   timing: a portfolio of N buildings on 1 and on 2 local workers
+#     (multisession): wall time, buildings per hour, scaling efficiency
+#     (T1 / (2 T2)).
+# Usage, from the package root, with bayesbem installed:
+#   Rscript bench/bench-portfolio.R coverage [P] [B]    (default 20 10)
+#   Rscript bench/bench-portfolio.R timing [N]          (default 20)
+suppressPackageStartupMessages(library(bayesbem))
+options(bayesbem.progress = FALSE)
+args <- commandArgs(trailingOnly = TRUE)
+what <- if (length(args) > 0L) args[1] else "coverage"
+sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
+pars <- sim$parameters[sim$parameters$parameter %in% c("equipment_power_density",
+                                                       "infiltration_per_exterior_area"), ]
+runs <- simulate_design(sim, design_lhs(pars, 10, seed = 1))
+retrofit <- function(s) scenario(s, scale = c(equipment_power_density = 0.7))
+
+# B buildings of portfolio p with their true savings.
+portfolio <- function(p, b) {
+  set.seed(1000 * p)
+  truth <- data.frame(equipment_power_density = stats::runif(b, 8, 25),
+                      infiltration_per_exterior_area = stats::runif(b, 3e-4, 1.2e-3))
+  fields <- lapply(seq_len(b), function(k) {
+    use <- simulate_design(sim, truth[k, ])$eta
+    data.frame(y = use * (1 + stats::rnorm(12, sd = 0.03)), sim$x)
+  })
+  true_savings <- vapply(seq_len(b), function(k) {
+    after <- truth[k, ]
+    after$equipment_power_density <- 0.7 * after$equipment_power_density
+    sum(simulate_design(sim, truth[k, ])$eta) - sum(simulate_design(sim, after)$eta)
+  }, numeric(1))
+  buildings <- data.frame(id = sprintf("p%02d-b%02d", p, seq_len(b)))
+  buildings$field <- fields
+  buildings$runs <- rep(list(runs), b)
+  buildings$simulator <- rep(list(sim), b)
+  list(buildings = buildings, true_total = sum(true_savings))
+}
+
+run <- function(buildings, workers, dir) {
+  future::plan(if (workers == 1L) future::sequential else
+    future::tweak(future::multisession, workers = workers))
+  on.exit(future::plan(future::sequential))
+  started <- proc.time()[["elapsed"]]
+  p <- suppressMessages(calibrate_portfolio(buildings, dir, retrofit = retrofit, ndraws = 20,
+                                            cores = 1L))
+  list(portfolio = p, seconds = proc.time()[["elapsed"]] - started)
+}
+
+if (what == "coverage") {
+  n_portfolios <- if (length(args) > 1L) as.integer(args[2]) else 20L
+  n_buildings <- if (length(args) > 2L) as.integer(args[3]) else 10L
+  rows <- lapply(seq_len(n_portfolios), function(p) {
+    problem <- portfolio(p, n_buildings)
+    result <- run(problem$buildings, 2L, file.path(tempdir(), sprintf("portfolio-%02d", p)))
+    total <- summary(result$portfolio)$total
+    half_g14 <- total$fsu_guideline14 * abs(total$savings)
+    data.frame(portfolio = p, buildings = total$buildings, truth = problem$true_total,
+               savings = total$savings, lower = total$lower, upper = total$upper,
+               covered = problem$true_total >= total$lower && problem$true_total <= total$upper,
+               fsu = total$fsu, fsu_g14 = total$fsu_guideline14,
+               covered_g14 = abs(problem$true_total - total$savings) <= half_g14,
+               seconds = round(result$seconds))
+  })
+  table <- do.call(rbind, rows)
+  print(table, row.names = FALSE, digits = 4)
+  cat(sprintf("\n90 %% interval of the total holds the truth in %d of %d portfolios; Guideline 14's FSU in %d of %d\n",
+              sum(table$covered), nrow(table), sum(table$covered_g14), nrow(table)))
+} else {
+  n <- if (length(args) > 1L) as.integer(args[2]) else 20L
+  problem <- portfolio(1L, n)
+  times <- vapply(1:2, function(w) {
+    run(problem$buildings, w, file.path(tempdir(), sprintf("timing-%d", w)))$seconds
+  }, numeric(1))
+  print(data.frame(workers = 1:2, buildings = n, seconds = round(times),
+                   buildings_per_hour = round(3600 * n / times),
+                   efficiency = round(c(1, times[1] / (2 * times[2])), 2)), row.names = FALSE)
+}
