@@ -12,7 +12,8 @@
 #     (multisession): wall time, buildings per hour, scaling efficiency
 #     (T1 / (2 T2)).
 # Usage, from the package root, with bayesbem installed:
-#   Rscript bench/bench-portfolio.R coverage [P] [B]    (default 20 10)
+#   Rscript bench/bench-portfolio.R coverage [P] [B]    (default 20 10; BENCH_WORKERS,
+#                                                       default 2)
 #   Rscript bench/bench-portfolio.R timing [N]          (default 20)
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
@@ -46,8 +47,10 @@ portfolio <- function(p, b) {
 }
 
 run <- function(buildings, workers, dir) {
-  future::plan(if (workers == 1L) future::sequential else
-    future::tweak(future::multisession, workers = workers))
+  # plan() reads its argument unevaluated: give it a variable
+  strategy <- if (workers == 1L) future::sequential else
+    future::tweak(future::multisession, workers = workers)
+  future::plan(strategy)
   on.exit(future::plan(future::sequential))
   started <- proc.time()[["elapsed"]]
   p <- suppressMessages(calibrate_portfolio(buildings, dir, retrofit = retrofit, ndraws = 20,
@@ -60,7 +63,8 @@ if (what == "coverage") {
   n_buildings <- if (length(args) > 2L) as.integer(args[3]) else 10L
   rows <- lapply(seq_len(n_portfolios), function(p) {
     problem <- portfolio(p, n_buildings)
-    result <- run(problem$buildings, 2L, file.path(tempdir(), sprintf("portfolio-%02d", p)))
+    workers <- as.integer(Sys.getenv("BENCH_WORKERS", "2"))
+    result <- run(problem$buildings, workers, file.path(tempdir(), sprintf("portfolio-%02d", p)))
     total <- summary(result$portfolio)$total
     half_g14 <- total$fsu_guideline14 * abs(total$savings)
     data.frame(portfolio = p, buildings = total$buildings, truth = problem$true_total,
