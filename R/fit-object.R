@@ -126,3 +126,8 @@ output_draw_names <- function(variables, data, emulator) {
   }
   variables
 }
+
+# The likelihood structure a fit was made with (fits made before 0.2.0 are dense).
+fit_structure <- function(fit) {
+  fit$settings$structure %||% "dense"
+}

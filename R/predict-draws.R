@@ -63,11 +63,6 @@ gp_joint <- function(fit, newdata, pars) {
        delta = t(joint[n_new + seq_len(n_new), , drop = FALSE]))
 }
 
-# The likelihood structure a fit was made with (fits made before 0.2.0 are dense).
-fit_structure <- function(fit) {
-  fit$settings$structure %||% "dense"
-}
-
 sampled_predictions <- function(fit, newdata, type, call = rlang::caller_env()) {
   if (is.null(fit$predict_at)) {
     abort_bayesbem(c("This fit has no predictions sampled in Stan.",
