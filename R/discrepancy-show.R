@@ -117,7 +117,7 @@ discrepancy_verdict <- function(d, level) {
   describe <- function(rows, word) {
     if (nrow(rows) == 0L) return(NULL)
     named <- if (nrow(rows) <= 10L) paste(rows$point, collapse = ", ") else
-      sprintf("%d points, the first %s", nrow(rows), paste(head(rows$point, 5L), collapse = ", "))
+      sprintf("%d points, the first %s", nrow(rows), paste(utils::head(rows$point, 5L), collapse = ", "))
     sprintf("%s at %s%s (by %s%% of the output on average)", word,
             if (nrow(rows) > 1L && nrow(rows) <= 10L) "points " else if (nrow(rows) == 1L) "point " else "",
             named, format(mean(abs(rows$residual_share)), digits = 2))
