@@ -67,12 +67,16 @@ if (what == "coverage") {
     result <- run(problem$buildings, workers, file.path(tempdir(), sprintf("portfolio-%02d", p)))
     total <- summary(result$portfolio)$total
     half_g14 <- total$fsu_guideline14 * abs(total$savings)
-    data.frame(portfolio = p, buildings = total$buildings, truth = problem$true_total,
-               savings = total$savings, lower = total$lower, upper = total$upper,
-               covered = problem$true_total >= total$lower && problem$true_total <= total$upper,
-               fsu = total$fsu, fsu_g14 = total$fsu_guideline14,
-               covered_g14 = abs(problem$true_total - total$savings) <= half_g14,
-               seconds = round(result$seconds))
+    row <- data.frame(portfolio = p, buildings = total$buildings, truth = problem$true_total,
+                      savings = total$savings, lower = total$lower, upper = total$upper,
+                      covered = problem$true_total >= total$lower &&
+                        problem$true_total <= total$upper,
+                      fsu = total$fsu, fsu_g14 = total$fsu_guideline14,
+                      covered_g14 = abs(problem$true_total - total$savings) <= half_g14,
+                      seconds = round(result$seconds))
+    # each portfolio's row as it finishes, so that a stopped run still tells
+    print(row, row.names = FALSE, digits = 4)
+    row
   })
   table <- do.call(rbind, rows)
   print(table, row.names = FALSE, digits = 4)

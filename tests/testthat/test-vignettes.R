@@ -54,3 +54,16 @@ test_that("the smart-meter vignette renders its diagnosis, the mechanism's fit a
   expect_rendered("smart-meter-fault", 0, c("best explained by", "weekend_plug_loads",
                                             "with_weekend_loads", "true_saving"))
 })
+
+test_that("the real-building vignette renders the export's check, TOWT beside and the warning", {
+  skip_on_cran()
+  expect_rendered("real-building", 0, c("a partial first or last reading", "typical_gas_per_m2",
+                                        "pile against a limit", "TOWT baseline",
+                                        "a fifth less plug load"))
+})
+
+test_that("the portfolio vignette renders its refusal, total and resume", {
+  skip_on_cran()
+  expect_rendered("portfolio", 1, c("refused before sending", "fsu_guideline14",
+                                    "already done"))
+})
