@@ -29,11 +29,13 @@ echo "install-deps: Debian packages installed"
 Rscript -e 'cat("install-deps: R uses the BLAS at", extSoftVersion()[["BLAS"]], "\n")'
 
 # From CRAN (R's configured repository) only what Debian lacks: sensitivity
-# (Morris screening) and the few of its dependencies Debian does not ship.
-Rscript -e '
+# (Morris screening) and the few of its dependencies Debian does not ship
+# (dtwclust, a hard dependency of sensitivity, is most of the time: make
+# compiles its C++ on every core, a quarter faster than one at a time).
+MAKEFLAGS="${MAKEFLAGS:--j$(nproc)}" Rscript -e '
 cran_only <- c("sensitivity")
 missing <- cran_only[!vapply(cran_only, requireNamespace, logical(1), quietly = TRUE)]
-if (length(missing) > 0L) install.packages(missing, Ncpus = 2L, quiet = TRUE)
+if (length(missing) > 0L) install.packages(missing, Ncpus = parallel::detectCores(), quiet = TRUE)
 still <- cran_only[!vapply(cran_only, requireNamespace, logical(1), quietly = TRUE)]
 if (length(still) > 0L) stop("could not install from CRAN: ", paste(still, collapse = ", "))
 '
