@@ -79,6 +79,11 @@ calibrate_portfolio <- function(buildings, dir, retrofit = NULL, ndraws = 40, se
   check_bool(keep_fits)
   check_string(dir)
   dir.create(dir, recursive = TRUE, showWarnings = FALSE)
+  if (!dir.exists(dir) || file.access(dir, 2L) != 0L) {
+    abort_bayesbem(c("{.arg dir} must be a folder the results can be written to.",
+                     x = "{.file {dir}} could not be created or is not writable."),
+                   "argument")
+  }
   seeds <- buildings$seed %||% (seed + seq_len(nrow(buildings)) - 1L)
   pending <- which(!vapply(buildings$id, portfolio_done, logical(1), dir = dir))
   options <- list(...)

@@ -126,4 +126,8 @@ test_that("a portfolio's table is checked before anything runs", {
   expect_error(calibrate_portfolio(buildings[c("id", "field")], dir),
                class = "bayesbem_error_argument")
   expect_error(calibrate_portfolio(buildings, 3), class = "bayesbem_error_argument")
+  blocker <- file.path(dir, "a-file")
+  writeLines("", blocker)
+  expect_error(calibrate_portfolio(buildings, file.path(blocker, "results")),
+               "could not be created", class = "bayesbem_error_argument")
 })
