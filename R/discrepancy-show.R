@@ -116,11 +116,11 @@ discrepancy_verdict <- function(d, level) {
   # the points named, up to ten (hourly data flag thousands)
   describe <- function(rows, word) {
     if (nrow(rows) == 0L) return(NULL)
-    named <- if (nrow(rows) <= 10L) paste(rows$point, collapse = ", ") else
+    named <- if (nrow(rows) == 1L) paste("point", rows$point) else if (nrow(rows) <= 10L)
+      paste("points", paste(rows$point, collapse = ", ")) else
       sprintf("%d points, the first %s", nrow(rows), paste(utils::head(rows$point, 5L), collapse = ", "))
-    sprintf("%s at %s%s (by %s%% of the output on average)", word,
-            if (nrow(rows) > 1L && nrow(rows) <= 10L) "points " else if (nrow(rows) == 1L) "point " else "",
-            named, format(mean(abs(rows$residual_share)), digits = 2))
+    sprintf("%s at %s (by %s%% of the output on average)", word, named,
+            format(mean(abs(rows$residual_share)), digits = 2))
   }
   parts <- c(describe(flagged[flagged$residual_mean > 0, ], "under-predicts"),
              describe(flagged[flagged$residual_mean < 0, ], "over-predicts"))

@@ -170,14 +170,15 @@ portfolio_check <- function(building, dir, options) {
   FALSE
 }
 
-# calibration_spec() with calibrate()'s defaults for what `...` leaves out.
+# calibration_spec() with calibrate()'s defaults for the settings `...`
+# leaves out; what calibrate() does not name goes on as rstan's arguments.
 calibration_spec_of <- function(field, sim, ...) {
-  args <- utils::modifyList(as.list(formals(calibrate))[c(
-    "priors", "chains", "iter", "warmup", "cores", "control", "predict_at", "structure",
-    "covariates", "modular", "emulator", "discrepancy_kernel", "noise_correlation",
-    "minor_modes")], list(...)[intersect(names(list(...)), names(formals(calibrate)))])
-  args <- lapply(args, eval, envir = environment(calibrate))
-  dots <- list(...)[setdiff(names(list(...)), names(formals(calibrate)))]
+  given <- list(...)
+  settings <- setdiff(names(formals(calibration_spec)), c("field", "sim", "dots", "call"))
+  args <- lapply(formals(calibrate)[settings], eval, envir = environment(calibrate))
+  chosen <- intersect(names(given), settings)
+  args[chosen] <- given[chosen]
+  dots <- given[setdiff(names(given), names(formals(calibrate)))]
   do.call(calibration_spec, c(list(field, sim), args, list(dots = dots)))
 }
 
