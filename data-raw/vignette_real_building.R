@@ -1,6 +1,6 @@
 # Precomputes vignettes/real-building.Rmd (30 runs of a year of hours of the
-# embedded model, one fit, the held-out comparison and the savings: about
-# 10 minutes on 2 cores) by rendering it with the computations switched on;
+# embedded model, one fit, the held-out comparison and the savings: minutes)
+# by rendering it with the computations switched on;
 # it stores the printed results, without the fit, in
 # inst/extdata/vignette-real-building.rds, which the vignette loads
 # otherwise. Rerun after changing the embedded model, the fit's defaults,

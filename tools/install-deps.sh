@@ -31,7 +31,7 @@ Rscript -e 'cat("install-deps: R uses the BLAS at", extSoftVersion()[["BLAS"]], 
 # From CRAN (R's configured repository) only what Debian lacks: sensitivity
 # (Morris screening) and the few of its dependencies Debian does not ship
 # (dtwclust, a hard dependency of sensitivity, is most of the time: make
-# compiles its C++ on every core, a quarter faster than one at a time).
+# compiles its C++ on every core; bench/results/install-times.md).
 MAKEFLAGS="${MAKEFLAGS:--j$(nproc)}" Rscript -e '
 cran_only <- c("sensitivity")
 missing <- cran_only[!vapply(cran_only, requireNamespace, logical(1), quietly = TRUE)]

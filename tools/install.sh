@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Installs bayesbem from the repository root (extra arguments go to
 # R CMD INSTALL, e.g. -l <library> or --preclean). The compilers' output
-# goes to a log, not the screen: compiling the Stan programs prints tens of
-# thousands of lines of warnings from Eigen's, Boost's and StanHeaders'
-# headers, none of them about bayesbem's code. Prints one line: the time,
+# goes to a log, not the screen: compiling the Stan programs floods it with
+# warnings from Eigen's, Boost's and StanHeaders' headers, none of them
+# about bayesbem's code. Prints one line: the time,
 # the warnings counted by source (bayesbem's own are shown in full) and the
 # log's path; on failure, the log's end.
 set -euo pipefail
