@@ -13,7 +13,9 @@
 #     (T1 / (2 T2)).
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-portfolio.R coverage [P] [B]    (default 20 10; BENCH_WORKERS,
-#                                                       default 2)
+#                                                       default 2; BENCH_FROM, the first
+#                                                       portfolio, default 1: a stopped
+#                                                       run goes on where it stopped)
 #   Rscript bench/bench-portfolio.R timing [N]          (default 20)
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
@@ -61,7 +63,8 @@ run <- function(buildings, workers, dir) {
 if (what == "coverage") {
   n_portfolios <- if (length(args) > 1L) as.integer(args[2]) else 20L
   n_buildings <- if (length(args) > 2L) as.integer(args[3]) else 10L
-  rows <- lapply(seq_len(n_portfolios), function(p) {
+  first <- as.integer(Sys.getenv("BENCH_FROM", "1"))
+  rows <- lapply(seq(first, n_portfolios), function(p) {
     problem <- portfolio(p, n_buildings)
     workers <- as.integer(Sys.getenv("BENCH_WORKERS", "2"))
     result <- run(problem$buildings, workers, file.path(tempdir(), sprintf("portfolio-%02d", p)))

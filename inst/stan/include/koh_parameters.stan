@@ -1,8 +1,0 @@
-  vector<lower=0, upper=1>[q] tf;        // calibration parameters
-  vector<lower=0, upper=1>[p + q] rho_eta;
-  vector<lower=0, upper=1>[p] rho_delta;
-  real<lower=0> lambda_eta;              // precision of the emulator
-  real<lower=0> lambda_delta;            // precision of the discrepancy
-  real<lower=0> lambda_e;                // precision of the observation error
-  vector[n_h] gamma;                     // coefficients of the discrepancy terms
-  vector[n_b] b;                         // coefficients of the emulator mean
