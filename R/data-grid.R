@@ -1,7 +1,7 @@
 # Grid designs: every simulation run made at the field inputs (x_c = x_f),
 # as in the paper's workflow. Then Sigma_eta is the Kronecker product of a
-# run correlation and a field-input correlation, which koh_grid.stan and the
-# grid prediction code exploit (inst/notes/decisions/S6-grid-designs.md).
+# run correlation and a field-input correlation, which koh.stan's grid
+# likelihood and the grid prediction code exploit (inst/notes/decisions/S6-grid-designs.md).
 
 # The grid layout of scaled field inputs `xf`, simulation inputs `xc` and
 # design `tc`, or NULL when they do not form a full grid. The grid inputs are

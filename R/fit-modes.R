@@ -108,8 +108,7 @@ restart_inits <- function(fit, n) {
 }
 
 # The names in the parameters blocks of the package's Stan programs
-# (koh_parameters.stan, koh_emulator.stan, koh_modular.stan, koh_basis.stan,
-# koh.stan), by Stan's transform to the unconstrained scale: logit for the
+# (koh.stan, koh_basis.stan), by Stan's transform to the unconstrained scale: logit for the
 # (0, 1) parameters, log for the precisions, none for the rest. Where the
 # draws' variables (`names`) hold tf_u, koh_basis.stan's, tf is one of its
 # transformed parameters; tf_u is taken as it is (Stan's unconstrained value

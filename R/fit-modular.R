@@ -1,9 +1,9 @@
 # The modular KOH fit (Liu, Bayarri & Berger 2009, "Modularization in
 # Bayesian analysis, with emphasis on analysis of computer models"): stage 1
 # estimates the emulator's hyperparameters from the simulation runs alone
-# by the mode of their posterior (inst/stan/koh_emulator.stan), stage 2
-# calibrates tf, the discrepancy and the noise with the emulator fixed there
-# (inst/stan/koh_modular.stan), the "plug-in" emulator of Bayarri et al.
+# by the mode of their posterior (inst/stan/koh.stan, likelihood
+# "emulator"), stage 2 calibrates tf, the discrepancy and the noise with the
+# emulator fixed there (likelihood "modular"), the "plug-in" emulator of Bayarri et al.
 # (2007, "A framework for validation of computer models"). Cutting the
 # feedback from the field data to the emulator removes the emulator modes
 # that the field data favour at large n, and makes each stage-2 gradient one
@@ -19,14 +19,14 @@
 # (the density fails at every start), `on_failure(messages)` is called, as
 # for a chain that cannot start.
 fit_emulator <- function(data, priors, seed, on_failure, starts = 16L) {
-  instance <- stan_instance(stanmodels$koh_emulator, emulator_stan_data(data, priors))
+  instance <- stan_instance(stanmodels$koh, emulator_stan_data(data, priors))
   mode <- highest_mode(instance, random_starts(instance, starts, seed))
   if (!is.finite(mode$lp)) {
     on_failure(sprintf("Stage 1: the emulator's log density failed at all %d starting points.",
                        starts))
   }
   values <- rstan::constrain_pars(instance, mode$u)
-  list(beta_eta = as.numeric(values$beta_eta), lambda_eta = values$lambda_eta,
+  list(beta_eta = as.numeric(values$beta_eta), lambda_eta = as.numeric(values$lambda_eta),
        b = as.numeric(values$b %||% numeric()), lp = mode$lp, searches = mode$searches)
 }
 

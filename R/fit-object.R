@@ -14,18 +14,39 @@ new_bayesbem_fit <- function(draws, sampler, inits, data, priors, settings, pred
             class = "bayesbem_fit")
 }
 
-# A fit from the stanfit calibrate() sampled: its draws, the sampler's
-# diagnostics and the chains' starting values; a modular fit's variables
-# named by output (output_draw_names()).
+# A fit from the stanfit calibrate() sampled: its draws (a modular fit's
+# with its fixed emulator, with_fixed_emulator()), the variables named by
+# output (output_draw_names()), the sampler's diagnostics and the chains'
+# starting values.
 stanfit_fit <- function(stanfit, data, priors, settings, predict_at = NULL, emulator = NULL) {
   draws <- posterior::as_draws_array(as.array(stanfit))
-  if (isTRUE(settings$modular)) {
-    posterior::variables(draws) <- output_draw_names(posterior::variables(draws), data, emulator)
-  }
+  if (isTRUE(settings$modular)) draws <- with_fixed_emulator(draws, data, emulator)
+  posterior::variables(draws) <- output_draw_names(posterior::variables(draws), data, emulator)
   sampler <- list(params = rstan::get_sampler_params(stanfit, inc_warmup = TRUE),
                   elapsed = rstan::get_elapsed_time(stanfit))
-  new_bayesbem_fit(draws, sampler, rstan::get_inits(stanfit), data, priors, settings,
+  # each chain's starting values of what it samples (none of what has no elements)
+  inits <- lapply(rstan::get_inits(stanfit), function(chain) Filter(length, chain))
+  new_bayesbem_fit(draws, sampler, inits, data, priors, settings,
                    predict_at = predict_at, emulator = emulator)
+}
+
+# A stage-2 fit's draws with the emulator of each output held fixed at
+# stage 1 (`emulator`, by output), a variable whose every draw is the same,
+# before lp__: named as a joint fit's sampled ones, output k's beta_eta and
+# b its block of p + q and of n_b elements, its lambda_eta element k.
+with_fixed_emulator <- function(draws, data, emulator) {
+  emulators <- output_emulators(data, emulator)
+  values <- lapply(c("beta_eta", "lambda_eta", "b"), function(par) {
+    v <- unlist(lapply(emulators, `[[`, par))
+    stats::setNames(v, sprintf("%s[%d]", par, seq_along(v)))
+  })
+  values <- unlist(values)
+  size <- dim(draws)[1:2]
+  fixed <- posterior::as_draws_array(array(rep(values, each = prod(size)), c(size, length(values)),
+                                           list(NULL, NULL, names(values))))
+  sampled <- setdiff(posterior::variables(draws), "lp__")
+  posterior::bind_draws(posterior::subset_draws(draws, variable = sampled), fixed,
+                        posterior::subset_draws(draws, variable = "lp__"), along = "variable")
 }
 
 # Draws (rows, chain after chain) of the elements (columns) of one Stan
@@ -109,10 +130,12 @@ output_parts <- function(data, emulator) {
   }), names(outputs))
 }
 
-# A stage-2 program's variable names as the fit keeps them: each output's
-# elements of the K-output parameters named as a one-output program names
-# them (element j of those kept is `par[j]`, a scalar `par`), prefixed
-# "<output>:" on several outputs; the shared ones (tf, lp__) as they are.
+# The Stan programs' variable names as the fit keeps them: each output's
+# elements of the K-output parameters named as a one-output fit names them
+# (element j of those kept is `par[j]`, a number per output `par`, as a
+# joint fit's precisions, vectors of one element in Stan), prefixed
+# "<output>:" on several outputs; the shared ones (tf, lp__) as they are,
+# and elements the draws lack (a likelihood's unsampled ones) skipped.
 output_draw_names <- function(variables, data, emulator) {
   parts <- output_parts(data, emulator)
   several <- inherits(data, "bayesbem_outputs")
@@ -120,8 +143,9 @@ output_draw_names <- function(variables, data, emulator) {
     part <- parts[[if (several) k else 1L]]
     for (par in names(part$elements)) {
       at <- match(sprintf("%s[%d]", par, part$elements[[par]]), variables)
-      name <- if (par %in% part$scalars) par else sprintf("%s[%d]", par, seq_along(at))
-      variables[at] <- if (several) paste0(k, ":", name) else name
+      name <- if (par %in% part$scalars) rep(par, length(at)) else sprintf("%s[%d]", par, seq_along(at))
+      if (several) name <- paste0(k, ":", name)
+      variables[at[!is.na(at)]] <- name[!is.na(at)]
     }
   }
   variables

@@ -1,6 +1,6 @@
 # Fits on several outputs (meters). Stage 2 samples the shared calibration
 # parameters with every output's discrepancy and noise at once
-# (koh_modular.stan, koh_basis.stan: output k's rho_delta and beta_delta are
+# (koh.stan's stage 2, koh_basis.stan: output k's rho_delta and beta_delta are
 # its block of p elements, its lambda_delta, lambda_e and lambda_eta element
 # k, its beta_eta and b its blocks, its gamma the columns of its own
 # discrepancy terms). The fit names each output's variables once

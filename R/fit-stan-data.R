@@ -1,29 +1,50 @@
-# Every data list and starting-value list the Stan programs take: the
-# joint programs (koh.stan, koh_grid.stan), stage 1 (koh_emulator.stan)
-# and stage 2 (koh_modular.stan, koh_basis.stan), one output or several.
+# Every data list and starting-value list the Stan programs take:
+# koh.stan's four likelihoods (joint dense and grid, stage 1, stage 2) and
+# koh_basis.stan (stage 2 with the basis emulator), one output or several.
 
-# The data block of inst/stan/koh.stan (structure "dense") or koh_grid.stan
-# (structure "grid") for given data and priors. `x_pred`: scaled inputs
-# whose outputs Stan samples (the paper's Appendix D; dense only).
+# koh.stan's likelihoods, by name: its data `likelihood`.
+koh_likelihoods <- c(dense = 1L, grid = 2L, emulator = 3L, modular = 4L)
+
+# The data block of koh.stan for one of its likelihoods: the `fields` that
+# likelihood reads, and every field it does not read at size zero (each
+# output's row one output when not given).
+koh_program_data <- function(likelihood, fields) {
+  p <- fields$p
+  mt <- fields$mt
+  unread <- list(K = 1L, output = as.array(rep(1, fields$n)), lapack = 0L,
+                 xc = matrix(0, 0, p), eta_c = numeric(0), n_pred = 0L,
+                 x_pred = matrix(0, 0, p), noise_weight_pred = numeric(0),
+                 n_x = 0L, eta = matrix(0, 0, mt), x_grid = matrix(0, 0, p),
+                 eta_f = matrix(0, 0, mt), beta_eta_fixed = matrix(0, p + fields$q, 0),
+                 lambda_eta_fixed = numeric(0), b_fixed = matrix(0, fields$n_b, 0),
+                 n_max = 0L, E_f = matrix(0, 0, mt), Kx_ff = matrix(0, 0, 0),
+                 Lt = matrix(0, 0, mt))
+  c(list(likelihood = koh_likelihoods[[likelihood]]), fields,
+    unread[setdiff(names(unread), names(fields))])
+}
+
+# koh.stan's data for a joint fit, likelihood "dense" or "grid", for given
+# data and priors. `x_pred`: scaled inputs whose outputs Stan samples (the
+# paper's Appendix D; dense only).
 koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
                           call = rlang::caller_env()) {
   prior_data <- koh_prior_data(data, priors, call = call)
+  field <- list(n = data$n, p = data$p, q = data$q, y = data$y, K = 1L,
+                noise_weight = as.array(noise_weights(data)))
   if (structure == "grid") {
     grid <- data$grid
-    return(c(list(n = data$n, n_x = grid$n_x, mt = grid$mt, p = data$p, q = data$q, y = data$y,
-                  eta = grid_runs(data), x_grid = grid$x, xf = field_grid_inputs(data),
-                  eta_f = field_runs(data),
-                  tc = grid$design, lapack = as.integer(use_lapack(call)),
-                  noise_weight = as.array(noise_weights(data))),
-             prior_data))
+    return(koh_program_data("grid", c(
+      field, list(mt = grid$mt, tc = grid$design, xf = field_grid_inputs(data),
+                  n_x = grid$n_x, eta = grid_runs(data), x_grid = grid$x,
+                  eta_f = field_runs(data), lapack = as.integer(use_lapack(call))),
+      prior_data)))
   }
   if (is.null(x_pred)) x_pred <- matrix(0, 0, data$p, dimnames = list(NULL, data$names$x))
-  c(list(n = data$n, m = data$m, p = data$p, q = data$q,
-         y = data$y, eta = data$eta, xf = data$xf, xc = data$xc, tc = data$tc),
-    prior_data,
-    list(n_pred = nrow(x_pred), x_pred = x_pred,
-         noise_weight = as.array(c(noise_weights(data),
-                                   noise_weights(data, unscale_x(x_pred, data$scaling))))))
+  koh_program_data("dense", c(
+    field, list(mt = data$m, tc = data$tc, xf = data$xf, xc = data$xc, eta_c = data$eta,
+                n_pred = nrow(x_pred), x_pred = x_pred,
+                noise_weight_pred = as.array(noise_weights(data, unscale_x(x_pred, data$scaling)))),
+    prior_data))
 }
 
 # The part of every program's data block that koh_prior_data.stan declares:
@@ -108,14 +129,17 @@ emulator_rows <- function(grid, max_inputs = 60L) {
   unique(round(seq(1, grid$n_x, length.out = max_inputs)))
 }
 
-# The data of koh_emulator.stan: the grid program's, on emulator_rows() of the
-# grid inputs (the field outputs are not used).
+# koh.stan's data for stage 1 (likelihood "emulator"): the grid
+# likelihood's runs on emulator_rows() of the grid inputs (the field
+# outputs are not read).
 emulator_stan_data <- function(data, priors) {
   stan_data <- koh_stan_data(data, priors, structure = "grid")
   rows <- emulator_rows(data$grid)
+  stan_data$likelihood <- koh_likelihoods[["emulator"]]
   stan_data$n_x <- length(rows)
   stan_data$eta <- stan_data$eta[rows, , drop = FALSE]
   stan_data$x_grid <- stan_data$x_grid[rows, , drop = FALSE]
+  stan_data$eta_f <- stan_data$eta_f[0, , drop = FALSE]
   stan_data
 }
 
@@ -123,12 +147,9 @@ emulator_stan_data <- function(data, priors) {
 # bayesbem_data or bayesbem_outputs object, `emulator` its stage-1 emulator
 # or their list): the field data stacked by output (each on its own
 # scaling), the runs' design they share, the priors, the discrepancy terms
-# of each output in its own columns (zero in the others' rows), and the
-# separable stage-1 emulators, one column each (koh_basis.stan passes them
-# through for predictions).
-stage2_stan_data <- function(data, priors, emulator) {
+# of each output in its own columns (zero in the others' rows).
+stage2_stan_data <- function(data, priors) {
   outputs <- output_data(data)
-  emulators <- output_emulators(data, emulator)
   first <- outputs[[1]]
   prior <- koh_prior_data(first, priors)
   prior$h <- block_diagonal(lapply(outputs, discrepancy_design))
@@ -140,10 +161,7 @@ stage2_stan_data <- function(data, priors, emulator) {
          output = as.array(rep(seq_along(outputs), vapply(outputs, `[[`, integer(1), "n"))),
          noise_weight = as.array(unlist(lapply(outputs, noise_weights))),
          lapack = as.integer(use_lapack())),
-    prior,
-    list(beta_eta_fixed = emulator_columns(emulators, "beta_eta"),
-         lambda_eta_fixed = as.array(vapply(emulators, `[[`, numeric(1), "lambda_eta")),
-         b_fixed = emulator_columns(emulators, "b")))
+    prior)
 }
 
 # The one-output data sets of a data set (one output's: itself), and their
@@ -177,19 +195,23 @@ block_diagonal <- function(blocks) {
   out
 }
 
-# The data of koh_modular.stan: stage2_stan_data() and each output's fixed
-# emulator's pieces, stacked by output: the runs at the field inputs less
-# the emulator mean, the field block of Kx (its first columns), the
-# Cholesky factor of Kt.
+# koh.stan's data for stage 2 (likelihood "modular"): stage2_stan_data(),
+# the separable stage-1 emulators, one column each, and each one's pieces,
+# stacked by output: the runs at the field inputs less the emulator mean,
+# the field block of Kx (its first columns), the Cholesky factor of Kt.
 modular_stan_data <- function(data, priors, emulator) {
-  pieces <- Map(modular_pieces, output_data(data), output_emulators(data, emulator),
-                MoreArgs = list(priors = priors))
+  emulators <- output_emulators(data, emulator)
+  pieces <- Map(modular_pieces, output_data(data), emulators, MoreArgs = list(priors = priors))
   kx <- lapply(pieces, `[[`, "Kx_ff")
   n_max <- max(vapply(kx, nrow, integer(1)))
-  c(stage2_stan_data(data, priors, emulator),
-    list(n_max = n_max, E_f = do.call(rbind, lapply(pieces, `[[`, "E_f")),
+  koh_program_data("modular", c(
+    stage2_stan_data(data, priors),
+    list(beta_eta_fixed = emulator_columns(emulators, "beta_eta"),
+         lambda_eta_fixed = as.array(vapply(emulators, `[[`, numeric(1), "lambda_eta")),
+         b_fixed = emulator_columns(emulators, "b"),
+         n_max = n_max, E_f = do.call(rbind, lapply(pieces, `[[`, "E_f")),
          Kx_ff = do.call(rbind, lapply(kx, function(k) cbind(k, matrix(0, nrow(k), n_max - ncol(k))))),
-         Lt = do.call(rbind, lapply(pieces, `[[`, "Lt"))))
+         Lt = do.call(rbind, lapply(pieces, `[[`, "Lt")))))
 }
 
 # One output's pieces of modular_stan_data().
@@ -209,15 +231,16 @@ modular_pieces <- function(data, emulator, priors) {
 }
 
 # Starting values given as a list per chain (rstan::sampling()'s `init`), as
-# the stage-2 programs take them: lambda_delta and lambda_e are vectors, one
-# element per output, and a basis fit samples tf as tf_u (basis_inits()).
-stage2_inits <- function(init, emulator) {
+# the Stan programs take them: the precisions are vectors (one element per
+# output, or the emulator's one), and a basis fit samples tf as tf_u
+# (basis_inits()).
+stan_inits <- function(init, emulator) {
   if (emulator == "basis") init <- basis_inits(init)
   if (!is.list(init)) {
     return(init)
   }
   lapply(init, function(chain) {
-    for (par in intersect(c("lambda_delta", "lambda_e"), names(chain))) {
+    for (par in intersect(c("lambda_eta", "lambda_delta", "lambda_e"), names(chain))) {
       chain[[par]] <- as.array(chain[[par]])
     }
     chain
@@ -234,7 +257,7 @@ basis_stan_data <- function(data, priors, emulator, hsgp = NULL, ar1 = FALSE) {
   mt <- nrow(bases[[1]]$tc)
   field <- function(name, size) matrix(vapply(gps, `[[`, numeric(size), name), ncol = length(gps))
   q <- ncol(bases[[1]]$tc)
-  sd <- c(stage2_stan_data(data, priors, emulator),
+  sd <- c(stage2_stan_data(data, priors),
           list(tf_edge = linear_box$edge, tf_multiplier = linear_box$multiplier,
                pc = length(gps),
                pc_output = as.array(rep(seq_along(bases), vapply(bases, function(b) ncol(b$B), integer(1)))),

@@ -43,13 +43,13 @@
 #'   paper's Appendix D; about twice as slow). Read them with
 #'   `predict(fit, method = "sampled")`. [predict.bayesbem_fit()] gives the same
 #'   predictions by exact conditioning after the fit, for any inputs.
-#' @param structure Which Stan program computes the likelihood: `"grid"`
-#'   (`koh_grid.stan`) when every simulation run was made at every field
+#' @param structure Which likelihood the Stan program computes: `"grid"`
+#'   when every simulation run was made at every field
 #'   input, as in the paper's workflow: the emulator covariance is then a
 #'   Kronecker product and each gradient costs O(mt^3 + n^3) for mt runs and
-#'   n field rows; `"dense"` (`koh.stan`) for any design, O((n + m)^3).
+#'   n field rows; `"dense"` for any design, O((n + m)^3).
 #'   Both give the same posterior. `"auto"` (the default) uses the grid
-#'   program whenever the data allow it (see `koh_data()$grid`) and
+#'   likelihood whenever the data allow it (see `koh_data()$grid`) and
 #'   `predict_at` is not given.
 #' @param covariates Optional data frame, one row per field row, whose
 #'   columns enter the discrepancy as parametric terms (see [extend()], which
@@ -254,7 +254,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                   })
   # the emulator named by the spec; stage 1 is the fitted emulator (of each output)
   stage1 <- if (spec$modular) fit_stage1(data, priors, seed, sampler$on_failure, spec$emulator)
-  if (spec$modular) sampler$args$init <- stage2_inits(sampler$args$init, spec$emulator)
+  sampler$args$init <- stan_inits(sampler$args$init, spec$emulator)
   sampler$start_at_mode <- spec$discrepancy_kernel == "additive"
   hsgp <- if (spec$discrepancy_kernel == "additive") hsgp_design()
   program <- stan_program(data, priors, stage1, spec$emulator, spec$modular, spec$structure,
@@ -338,12 +338,12 @@ calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, co
 
 # The Stan program of a fit and its data (R/fit-stan-data.R), one row per
 # kind of fit:
-#   joint, dense likelihood      koh.stan          koh_stan_data()
-#   joint, grid likelihood       koh_grid.stan     koh_stan_data()
-#   modular, separable emulator  koh_modular.stan  modular_stan_data()
-#   modular, basis emulator      koh_basis.stan    basis_stan_data()
+#   joint, dense likelihood      koh.stan, "dense"     koh_stan_data()
+#   joint, grid likelihood       koh.stan, "grid"      koh_stan_data()
+#   modular, separable emulator  koh.stan, "modular"   modular_stan_data()
+#   modular, basis emulator      koh_basis.stan        basis_stan_data()
 #     (additive discrepancy, an hsgp_design() `hsgp`: its hsgp block)
-# Stage 1 of a modular fit is koh_emulator.stan (emulator_stan_data()).
+# Stage 1 of a modular fit is koh.stan, "emulator" (emulator_stan_data()).
 stan_program <- function(data, priors, stage1, emulator, modular, structure, predict_at,
                          hsgp = NULL, ar1 = FALSE) {
   if (emulator == "basis") {
@@ -351,11 +351,10 @@ stan_program <- function(data, priors, stage1, emulator, modular, structure, pre
                 data = basis_stan_data(data, priors, stage1, hsgp, ar1)))
   }
   if (modular) {
-    return(list(model = stanmodels$koh_modular, data = modular_stan_data(data, priors, stage1)))
+    return(list(model = stanmodels$koh, data = modular_stan_data(data, priors, stage1)))
   }
   x_pred <- if (!is.null(predict_at)) scale_newdata(data, predict_at, "predict_at")
-  list(model = if (structure == "grid") stanmodels$koh_grid else stanmodels$koh,
-       data = koh_stan_data(data, priors, x_pred, structure))
+  list(model = stanmodels$koh, data = koh_stan_data(data, priors, x_pred, structure))
 }
 
 # The iterations and warm-up of a fit: the caller's, else the defaults of

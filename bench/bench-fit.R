@@ -1,5 +1,5 @@
-# Benchmark: the package's KOH programs (grid: koh_grid.stan; dense:
-# koh.stan) against a naive element-wise program written like the paper's
+# Benchmark: the package's KOH program (koh.stan, its grid and dense
+# likelihoods) against a naive element-wise program written like the paper's
 # listing, on the shipped case study, in the same run.
 # Times compilation, warm-up and sampling, and the minimum bulk ESS per second
 # over tf and the GP hyperparameters. One chain of 500 iterations (250 warm-up)
@@ -18,18 +18,17 @@ if (!nzchar(system.file("include", "boost", package = "BH"))) {
 d <- koh_data(seb_field, seb_sim)
 stan_data <- list(grid = bayesbem:::koh_stan_data(d, koh_priors(), structure = "grid"),
                   dense = bayesbem:::koh_stan_data(d, koh_priors(), structure = "dense"))
-stan_data$naive <- stan_data$dense
+# the naive program reads the dense likelihood's simulation rows as m and eta
+stan_data$naive <- utils::modifyList(stan_data$dense, list(m = stan_data$dense$mt,
+                                                           eta = stan_data$dense$eta_c))
 include_dir <- system.file("stan", package = "bayesbem")
 
 compile <- function(file) {
   t <- system.time(model <- rstan::stan_model(file, isystem = include_dir))[["elapsed"]]
   list(model = model, compile = t)
 }
-programs <- list(
-  grid = compile(file.path(include_dir, "koh_grid.stan")),
-  dense = compile(file.path(include_dir, "koh.stan")),
-  naive = compile("bench/naive_koh.stan")
-)
+koh <- compile(file.path(include_dir, "koh.stan"))
+programs <- list(grid = koh, dense = koh, naive = compile("bench/naive_koh.stan"))
 
 min_ess_per_s <- function(fit) {
   draws <- posterior::as_draws_array(as.array(fit, pars = c("tf", "beta_eta", "beta_delta",

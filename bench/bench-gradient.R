@@ -1,11 +1,10 @@
 # Benchmark (issue 14, speed): time per gradient of the log density of the
-# joint grid program (koh_grid.stan), and of the two stages of the modular
-# fit (koh_emulator.stan on at most 60 grid inputs; koh_modular.stan with the
-# emulator fixed), for n daily field periods of 2013 and mt runs of the
+# joint grid likelihood (koh.stan), and of the two stages of the modular
+# fit (stage 1 on at most 60 grid inputs; stage 2 with the emulator fixed), for n daily field periods of 2013 and mt runs of the
 # embedded model (the paper's three calibration parameters, LHS design),
 # with the default priors (linear emulator mean). Mean of repeated
 # rstan::grad_log_prob() calls at one point; one core. The grid and stage-2
-# programs are timed with their n x n factor by Eigen and by R's LAPACK (on
+# likelihoods are timed with their n x n factor by Eigen and by R's LAPACK (on
 # the BLAS printed at the end; use_lapack() picks one of the two in fits).
 # With "hourly" (issue 55): stage 2 with the basis emulator
 # (koh_basis.stan) as the rows grow to a year of hours, the discrepancy's
@@ -108,9 +107,9 @@ for (n in ns) {
   stage2 <- bayesbem:::modular_stan_data(d, priors, emulator)
   rows[[length(rows) + 1L]] <- data.frame(
     n = n, mt = mt,
-    joint_grid_ms = ms("koh_grid", grid, 0L), joint_grid_lapack_ms = ms("koh_grid", grid, 1L),
-    stage1_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_emulator, stage1),
-    stage2_ms = ms("koh_modular", stage2, 0L), stage2_lapack_ms = ms("koh_modular", stage2, 1L)
+    joint_grid_ms = ms("koh", grid, 0L), joint_grid_lapack_ms = ms("koh", grid, 1L),
+    stage1_ms = 1000 * grad_time(bayesbem:::stanmodels$koh, stage1),
+    stage2_ms = ms("koh", stage2, 0L), stage2_lapack_ms = ms("koh", stage2, 1L)
   )
   print(rows[[length(rows)]], digits = 3, row.names = FALSE)
 }

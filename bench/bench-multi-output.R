@@ -15,7 +15,7 @@
 # 0.5 "learnt", above 0.8 "prior-driven", as identifiability() says),
 # coverage of the truth by the 90 % interval, fits that pass
 # check_convergence(), and the median wall time of a fit.
-# `gradient` instead times one gradient of stage 2 (koh_modular.stan,
+# `gradient` instead times one gradient of stage 2 (koh.stan with the
 # separable emulator, and koh_basis.stan) on electricity alone and on both
 # meters, n days of 2013 per meter, 30 runs of the embedded model: the
 # cost of a second output per gradient.
@@ -138,7 +138,7 @@ gradient_table <- function(ns) {
     }
     ems <- lapply(both$outputs, emulator)
     ms <- function(d, em) {
-      c(separable = gradient_ms("koh_modular", bayesbem:::modular_stan_data(d, priors, em)),
+      c(separable = gradient_ms("koh", bayesbem:::modular_stan_data(d, priors, em)),
         basis = gradient_ms("koh_basis", bayesbem:::basis_stan_data(d, priors, em)))
     }
     a <- ms(one, ems$electricity)

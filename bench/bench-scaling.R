@@ -55,7 +55,7 @@ for (n in ns) {
     stopifnot(!is.null(d$grid))
     sd_grid <- bayesbem:::koh_stan_data(d, koh_priors(), structure = "grid")
     sd_dense <- bayesbem:::koh_stan_data(d, koh_priors(), structure = "dense")
-    g_grid <- grad_time(bayesbem:::stanmodels$koh_grid, sd_grid, 20)
+    g_grid <- grad_time(bayesbem:::stanmodels$koh, sd_grid, 20)
     N <- n * (mt + 1)
     # The dense gradient's Cholesky of the N x N Sigma_z costs O(N^3) time and
     # O(N^2) autodiff memory; past N_dense_max it is extrapolated as N^3 from

@@ -11,14 +11,12 @@
 // normal_basis_lpdf()). tf is sampled on a scale linear inside [0, 1]
 // (linear_box_lp()), where the ridge a year of daily data leaves is
 // straight, so that a dense metric fits it
-// (inst/notes/decisions/F5-a-linear-scale-for-tf-in.md). The separable emulator
-// of stage 1 is passed through to the
-// generated quantities: the package predicts with it.
+// (inst/notes/decisions/F5-a-linear-scale-for-tf-in.md).
 //
 // Several outputs (meters) share tf; each has its own basis, components,
 // discrepancy and noise, its rows and components a block of the stacked
-// data, and the likelihood is the sum of the outputs' (as in
-// koh_modular.stan). With one output this is the one-output model.
+// data, and the likelihood is the sum of the outputs' (as in koh.stan's
+// stage 2). With one output this is the one-output model.
 functions {
   // the GP kernels, the mean and discrepancy terms, the tf prior, the C++ densities
 #include /include/koh_functions.stan
@@ -110,15 +108,13 @@ functions {
 }
 data {
   // n, mt, p, q, K; y, xf, tc, each row's output and noise weight
-#include /include/koh_stage2_data.stan
+#include /include/koh_field_data.stan
   // the priors' parameters and the mean and discrepancy terms
 #include /include/koh_prior_data.stan
   int<lower=0, upper=1> lapack;          // Sigma factored by R's LAPACK (1) or Eigen (0)
   // the scale of tf_u (R/fit-basis.R, linear_box)
   real<lower=0, upper=0.5> tf_edge;      // a, the width of g's tails
   real<lower=0> tf_multiplier;           // Stan samples tf_u / tf_multiplier
-  // the separable stage-1 emulator of each output, for predictions
-#include /include/koh_stage2_emulators.stan
   // the basis emulators: output k's components are a block of columns
   int<lower=1> pc;                       // components, all outputs
   vector<lower=1, upper=K>[pc] pc_output; // the output of each component
@@ -248,9 +244,4 @@ model {
                                 s2r[k] + segment(noise_weight, s, len) / lambda_e[k], lapack);
     }
   }
-}
-generated quantities {
-  // the separable emulators, under the names of the joint programs (output
-  // k's beta_eta and b are its block of p + q and of n_b elements)
-#include /include/koh_fixed_emulator.stan
 }

@@ -6,6 +6,7 @@ reference_log_density <- function(sd, pars) {
   # predicted outputs (the paper's Appendix D) are field rows with unknown y
   sd$xf <- rbind(sd$xf, sd$x_pred)
   sd$y <- c(sd$y, pars$y_pred)
+  sd$noise_weight <- c(sd$noise_weight, sd$noise_weight_pred)
   sd$n <- sd$n + sd$n_pred
   joint <- reference_joint(sd, pars)
   reference_normal(joint$z, joint$sigma) + reference_tf_prior(sd, pars$tf) +
@@ -29,7 +30,7 @@ reference_normal <- function(z, sigma) {
 # what stage 2 of a modular fit conditions on.
 reference_field_given_runs <- function(sd, pars) {
   joint <- reference_joint(sd, pars)
-  runs <- sd$n + seq_len(sd$m)
+  runs <- sd$n + seq_len(sd$mt)
   reference_normal(joint$z, joint$sigma) -
     reference_normal(joint$z[runs], joint$sigma[runs, runs, drop = FALSE])
 }
@@ -38,7 +39,7 @@ reference_field_given_runs <- function(sd, pars) {
 # element (method.md section 1).
 reference_joint <- function(sd, pars) {
   n <- sd$n
-  m <- sd$m
+  m <- sd$mt
   N <- n + m
   u <- rbind(cbind(sd$xf, matrix(pars$tf, n, sd$q, byrow = TRUE)),
              cbind(sd$xc, sd$tc))
@@ -63,7 +64,7 @@ reference_joint <- function(sd, pars) {
   emulator_mean <- vapply(seq_len(N), function(i) sum(c(1, u[i, ]) * coef), numeric(1))
   # the discrepancy terms h' gamma shift the observed field rows
   shift <- emulator_mean + c(drop(sd$h %*% pars$gamma), rep(0, N - nrow(sd$h)))
-  list(sigma = sigma, z = c(sd$y, sd$eta) - shift)
+  list(sigma = sigma, z = c(sd$y, sd$eta_c) - shift)
 }
 
 # Log prior density of tf. The prior is stated on w, the physical value
@@ -113,18 +114,34 @@ random_koh_pars <- function(sd) {
        b = as.array(stats::rnorm(sd$n_b)))
 }
 
-# The compiled KOH model ("koh" or "koh_grid") with data `sd`, without
-# sampling, for log_prob().
+# A compiled program of the package ("koh", whose data choose its
+# likelihood, or "koh_basis") with data `sd`, without sampling, for
+# log_prob().
 koh_model_for <- function(sd, program = "koh") {
-  utils::capture.output(
+  utils::capture.output(suppressMessages(
     model <- rstan::sampling(bayesbem:::stanmodels[[program]], data = sd, chains = 0)
-  )
+  ))
   model
 }
 
 # Stan's log density (priors included, no Jacobian) at constrained `pars`.
 stan_log_density <- function(model, pars) {
-  rstan::log_prob(model, rstan::unconstrain_pars(model, pars), adjust_transform = FALSE)
+  rstan::log_prob(model, unconstrain(model, pars), adjust_transform = FALSE)
+}
+
+# rstan::unconstrain_pars() of `pars` named as a fit names them: a
+# precision given as a number is the program's vector of one element, and
+# the parameters that koh.stan's likelihood does not sample (no elements)
+# are added, as rstan asks for them all.
+unconstrain <- function(model, pars) {
+  dims <- model@par_dims
+  for (par in intersect(names(pars), names(dims))) {
+    if (length(dims[[par]]) == 1L && is.null(dim(pars[[par]]))) pars[[par]] <- as.array(pars[[par]])
+  }
+  empty <- names(Filter(function(d) length(d) > 0L && prod(d) == 0, dims))
+  missing <- setdiff(empty, names(pars))
+  rstan::unconstrain_pars(model, c(pars, stats::setNames(rep(list(numeric(0)), length(missing)),
+                                                         missing)))
 }
 
 # koh_basis.stan's log density with data `sd` at its named parameters
@@ -154,7 +171,7 @@ expect_log_density_matches <- function(sd, times) {
 # conditioned with solve(). `x_new` is on the scaled input range.
 reference_conditional <- function(sd, pars, x_new) {
   n <- sd$n
-  m <- sd$m
+  m <- sd$mt
   k <- nrow(x_new)
   tf_rows <- function(x) cbind(x, matrix(pars$tf, nrow(x), sd$q, byrow = TRUE))
   # every variable: its (x, t) row, whether it carries eta, delta, noise
@@ -186,7 +203,7 @@ reference_conditional <- function(sd, pars, x_new) {
   # the emulator mean of every eta variable, from [1, x, t] . coef
   coef <- reference_coef(sd, pars)
   mu <- ifelse(has_eta, drop(cbind(1, u) %*% coef), 0)
-  z <- c(sd$y - drop(sd$h %*% pars$gamma), sd$eta) - mu[train]
+  z <- c(sd$y - drop(sd$h %*% pars$gamma), sd$eta_c) - mu[train]
   list(mean = mu[new] + drop(cov[new, train] %*% solve(cov[train, train], z)),
        cov = cov[new, new] - cov[new, train] %*% solve(cov[train, train], cov[train, new]))
 }

@@ -59,7 +59,7 @@ test_that("periods sharing their inputs share a grid input, each run's outputs t
   for (i in 1:3) {
     pars <- random_koh_pars(dense)
     lp <- stan_log_density(koh_model_for(dense), pars)
-    expect_equal(stan_log_density(koh_model_for(grid, "koh_grid"), pars[names(pars) != "y_pred"]),
+    expect_equal(stan_log_density(koh_model_for(grid), pars[names(pars) != "y_pred"]),
                  lp, tolerance = 1e-8)
     expect_equal(reference_log_density(dense, pars), lp, tolerance = 1e-8)
     par <- as_draw_pars(pars, priors$nugget, dense)

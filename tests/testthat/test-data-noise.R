@@ -29,7 +29,8 @@ test_that("koh_data() weighs each period's noise by its days, on the field's mea
                days / mean(days))
   x_pred <- d$xf[1:2, , drop = FALSE]
   dense <- bayesbem:::koh_stan_data(d, priors, x_pred = x_pred)
-  expect_equal(as.vector(dense$noise_weight), c(days, days[1:2]) / mean(days))
+  expect_equal(as.vector(dense$noise_weight), days / mean(days))
+  expect_equal(as.vector(dense$noise_weight_pred), days[1:2] / mean(days))
   # without `days` every weight is 1 (the paper's model)
   plain <- koh_data(seb_field, seb_sim)
   expect_null(plain$scaling$days)
@@ -45,10 +46,7 @@ test_that("each output's periods weigh its own noise", {
   r$field$days <- unname(lookup[key(r$field)])
   r$sim$days <- unname(lookup[key(r$sim)])
   d <- koh_data(r$field, r$sim)
-  emulators <- lapply(d$outputs, function(o) {
-    list(beta_eta = rep(1, o$p + o$q), lambda_eta = 1, b = numeric(0))
-  })
-  sd <- bayesbem:::stage2_stan_data(d, koh_priors(emulator_mean = "zero"), emulators)
+  sd <- bayesbem:::stage2_stan_data(d, koh_priors(emulator_mean = "zero"))
   expected <- unlist(lapply(d$outputs, function(o) o$field$days / mean(o$field$days)))
   expect_equal(as.vector(sd$noise_weight), unname(expected))
 })

@@ -3,7 +3,7 @@ test_that("chains run one per process give rstan's own multi-chain draws", {
   d <- koh_data(seb_field, seb_sim)
   stan_data <- bayesbem:::koh_stan_data(d, koh_priors(), NULL, "grid")
   reference <- suppressWarnings(
-    rstan::sampling(bayesbem:::stanmodels$koh_grid, data = stan_data, chains = 2, iter = 150,
+    rstan::sampling(bayesbem:::stanmodels$koh, data = stan_data, chains = 2, iter = 150,
                     seed = test_seed(5), refresh = 0, control = list(adapt_delta = 0.9), cores = 1)
   )
   fit <- suppressWarnings(calibrate(d, chains = 2, iter = 150, seed = test_seed(5), cores = 2,
@@ -13,7 +13,7 @@ test_that("chains run one per process give rstan's own multi-chain draws", {
   expect_equal(unname(unclass(fit$draws)), unname(as.array(reference)))
   # the chains' draws as minor_mode_chains() reads them
   single <- lapply(1:2, function(k) {
-    suppressWarnings(rstan::sampling(bayesbem:::stanmodels$koh_grid, data = stan_data, chains = 1,
+    suppressWarnings(rstan::sampling(bayesbem:::stanmodels$koh, data = stan_data, chains = 1,
                                      chain_id = k, iter = 150, seed = test_seed(5), refresh = 0,
                                      control = list(adapt_delta = 0.9)))
   })
@@ -140,7 +140,7 @@ test_that("restarted chains start from the main mode's draws and are reported", 
   skip_on_cran()
   d <- koh_data(seb_field, seb_sim)
   sample_seb <- function(chain_id, ...) {
-    suppressWarnings(rstan::sampling(bayesbem:::stanmodels$koh_grid,
+    suppressWarnings(rstan::sampling(bayesbem:::stanmodels$koh,
                                      data = bayesbem:::koh_stan_data(d, koh_priors(), NULL, "grid"),
                                      chains = 1, chain_id = chain_id, iter = 150, seed = test_seed(5),
                                      refresh = 0, control = list(adapt_delta = 0.9), ...))
@@ -230,7 +230,7 @@ test_that("the calibration parameters a minor mode put elsewhere are named", {
 test_that("rstan's diagnostic warnings are told by the function that raised them", {
   skip_on_cran()
   short <- suppressWarnings(
-    rstan::sampling(bayesbem:::stanmodels$koh_grid,
+    rstan::sampling(bayesbem:::stanmodels$koh,
                     data = bayesbem:::koh_stan_data(koh_data(seb_field, seb_sim), koh_priors(),
                                                     NULL, "grid"),
                     chains = 2, iter = 30, seed = test_seed(1), refresh = 0)

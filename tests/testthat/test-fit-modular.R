@@ -15,17 +15,17 @@ test_that("stage 1 + stage 2 log densities equal the joint grid density", {
     d <- pr$d
     grid_sd <- bayesbem:::koh_stan_data(d, pr$priors, structure = "grid")
     dense_sd <- bayesbem:::koh_stan_data(d, pr$priors, structure = "dense")
-    model_grid <- koh_model_for(grid_sd, "koh_grid")
+    model_grid <- koh_model_for(grid_sd)
     # stage 1 on every grid input (the problems have fewer than 60)
     stage1_sd <- bayesbem:::emulator_stan_data(d, pr$priors)
     expect_equal(stage1_sd$eta, grid_sd$eta)
-    model_stage1 <- koh_model_for(stage1_sd, "koh_emulator")
+    model_stage1 <- koh_model_for(stage1_sd)
     for (i in 1:3) {
       pars <- random_koh_pars(dense_sd)
       emulator <- list(beta_eta = -4 * log(pars$rho_eta), lambda_eta = pars$lambda_eta,
                        b = pars$b)
       stage2_sd <- bayesbem:::modular_stan_data(d, pr$priors, emulator)
-      model_stage2 <- koh_model_for(stage2_sd, "koh_modular")
+      model_stage2 <- koh_model_for(stage2_sd)
       lp1 <- stan_log_density(model_stage1, pars[c("rho_eta", "lambda_eta", "b")])
       lp2 <- stan_log_density(model_stage2, stage2_pars(pars))
       joint <- stan_log_density(model_grid, pars[names(pars) != "y_pred"])
@@ -73,7 +73,7 @@ test_that("stage 1 finds the posterior mode of the emulator's hyperparameters", 
   # the same mode from the same seed
   expect_equal(bayesbem:::fit_emulator(d, priors, seed = test_seed(3), on_failure = stop), emulator)
   # the mode on the unconstrained scale: logit rho, log lambda, b
-  model <- koh_model_for(bayesbem:::emulator_stan_data(d, priors), "koh_emulator")
+  model <- koh_model_for(bayesbem:::emulator_stan_data(d, priors))
   u <- c(stats::qlogis(exp(-emulator$beta_eta / 4)), log(emulator$lambda_eta), emulator$b)
   expect_equal(rstan::log_prob(model, u), emulator$lp, tolerance = 1e-8)
   h <- 1e-4

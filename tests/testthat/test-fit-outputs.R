@@ -19,7 +19,7 @@ test_that("the K-output stage-2 log density is the sum of the outputs' (separabl
   sd <- bayesbem:::modular_stan_data(d, priors, emulators)
   expect_equal(sd$K, 2L)
   expect_equal(as.numeric(sd$output), rep(1:2, c(7, 6)))
-  model <- koh_model_for(sd, "koh_modular")
+  model <- koh_model_for(sd)
   for (i in 1:3) {
     pars <- list(tf = as.array(stats::runif(q)), rho_delta = as.array(stats::runif(2 * p, 0.3, 0.99)),
                  lambda_delta = as.array(stats::rgamma(2, 10, 0.3)),

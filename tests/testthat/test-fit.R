@@ -72,7 +72,7 @@ test_that("the grid program's log density equals the dense program's", {
     dense <- bayesbem:::koh_stan_data(pr$d, pr$priors, structure = "dense")
     grid <- bayesbem:::koh_stan_data(pr$d, pr$priors, structure = "grid")
     model_dense <- koh_model_for(dense)
-    model_grid <- koh_model_for(grid, "koh_grid")
+    model_grid <- koh_model_for(grid)
     for (i in 1:4) {
       pars <- random_koh_pars(dense)
       lp_grid <- stan_log_density(model_grid, pars[names(pars) != "y_pred"])
@@ -82,25 +82,25 @@ test_that("the grid program's log density equals the dense program's", {
   }
 })
 
-# The grid and modular programs' data and random parameters for the data d.
+# The grid and modular likelihoods' data and random parameters for the data d.
 field_density_models <- function(d) {
   priors <- koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)), nugget = 1e-4)
   grid <- bayesbem:::koh_stan_data(d, priors, structure = "grid")
   pars <- random_koh_pars(bayesbem:::koh_stan_data(d, priors, structure = "dense"))
   emulator <- list(beta_eta = -4 * log(pars$rho_eta), lambda_eta = pars$lambda_eta, b = pars$b)
   list(
-    koh_grid = list(sd = grid, pars = pars[names(pars) != "y_pred"]),
-    koh_modular = list(sd = bayesbem:::modular_stan_data(d, priors, emulator),
+    grid = list(sd = grid, pars = pars[names(pars) != "y_pred"]),
+    modular = list(sd = bayesbem:::modular_stan_data(d, priors, emulator),
                        pars = stage2_pars(pars))
   )
 }
 
-# Checks both programs at random parameters of the data d (test below).
+# Checks both likelihoods at random parameters of the data d (test below).
 expect_gradient_matches <- function(d) {
   models <- field_density_models(d)
-  for (program in names(models)) {
-    model <- koh_model_for(models[[program]]$sd, program)
-    upars <- rstan::unconstrain_pars(model, models[[program]]$pars)
+  for (likelihood in names(models)) {
+    model <- koh_model_for(models[[likelihood]]$sd)
+    upars <- unconstrain(model, models[[likelihood]]$pars)
     numeric_grad <- vapply(seq_along(upars), function(k) {
       h <- 1e-5 * replace(numeric(length(upars)), k, 1)
       (rstan::log_prob(model, upars + h) - rstan::log_prob(model, upars - h)) / 2e-5
@@ -110,7 +110,7 @@ expect_gradient_matches <- function(d) {
   }
 }
 
-# The field density of the grid and modular programs has a hand-written
+# The field density of the grid and modular likelihoods has a hand-written
 # gradient (inst/include/normal_two_kernels.hpp); Stan's gradient must equal
 # central finite differences of Stan's own log density. At n = 70 the inverse
 # of Sigma recurses three times, into unequal halves (invert_lower(), halves
@@ -129,11 +129,10 @@ test_that("R's LAPACK and Eigen give the same field density and gradient", {
   skip_on_cran()
   withr::local_seed(13)
   models <- field_density_models(random_grid_data(n = 70, extra = 2))
-  for (program in names(models)) {
+  for (likelihood in names(models)) {
     at <- lapply(0:1, function(lapack) {
-      model <- koh_model_for(utils::modifyList(models[[program]]$sd, list(lapack = lapack)),
-                             program)
-      u <- rstan::unconstrain_pars(model, models[[program]]$pars)
+      model <- koh_model_for(utils::modifyList(models[[likelihood]]$sd, list(lapack = lapack)))
+      u <- unconstrain(model, models[[likelihood]]$pars)
       list(lp = rstan::log_prob(model, u), grad = as.vector(rstan::grad_log_prob(model, u)))
     })
     expect_equal(at[[2]]$lp, at[[1]]$lp, tolerance = 1e-10)
@@ -144,11 +143,11 @@ test_that("R's LAPACK and Eigen give the same field density and gradient", {
 test_that("a covariance that is not positive definite is an error on both paths", {
   skip_on_cran()
   withr::local_seed(13)
-  m <- field_density_models(random_grid_data(n = 7, extra = 2))$koh_modular
+  m <- field_density_models(random_grid_data(n = 7, extra = 2))$modular
   m$sd$Kx_ff <- -1e12 * diag(nrow(m$sd$Kx_ff))
   for (lapack in 0:1) {
-    model <- koh_model_for(utils::modifyList(m$sd, list(lapack = lapack)), "koh_modular")
-    u <- rstan::unconstrain_pars(model, m$pars)
+    model <- koh_model_for(utils::modifyList(m$sd, list(lapack = lapack)))
+    u <- unconstrain(model, m$pars)
     expect_error(rstan::log_prob(model, u), "not positive definite")
   }
 })

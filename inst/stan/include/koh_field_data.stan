@@ -1,5 +1,5 @@
   int<lower=1> n;                        // field observations, all outputs
-  int<lower=1> mt;                       // simulation runs, the same for every output
+  int<lower=1> mt;                       // simulation runs (dense likelihood: simulation rows)
   int<lower=1> p;                        // observable inputs x
   int<lower=1> q;                        // calibration parameters t
   vector[n] y;                           // field outputs, each standardised on its own
