@@ -31,7 +31,7 @@ as_draws_array.bayesbem_fit <- function(x, ...) {
   d <- x$data
   h_names <- names(d$covariates)
   b_names <- mean_term_names(x$priors, d)
-  phi <- if (identical(x$settings$noise_correlation, "ar1")) "phi"
+  phi <- if (is_ar1(x$settings)) "phi"
   arr <- unclass(posterior::subset_draws(
     x$draws, variable = c("tf", "beta_eta", "beta_delta", "lambda_eta", "lambda_delta",
                           "lambda_e", phi, if (length(h_names) > 0L) "gamma",
@@ -156,14 +156,14 @@ print.summary.bayesbem_fit <- function(x, ...) {
               paste0(if (identical(st$emulator, "basis")) ", modular, basis emulator" else
                        if (isTRUE(st$modular)) ", modular" else "",
                      if (identical(st$discrepancy_kernel, "additive")) ", additive discrepancy",
-                     if (identical(st$noise_correlation, "ar1")) ", AR(1) noise")))
+                     if (is_ar1(st)) ", AR(1) noise")))
   cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions%s\n\n",
               st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent,
               minor_modes_label(st$dropped, st$restarted, st$kept_moved)))
   cat("Calibration parameters (physical units):\n")
   print_summary_table(x$parameters)
   cat(sprintf("\nGaussian-process hyperparameters%s (standardised scale):\n",
-              if (identical(st$noise_correlation, "ar1")) " and the noise's AR(1) phi" else ""))
+              if (is_ar1(st)) " and the noise's AR(1) phi" else ""))
   print_summary_table(x$hyperparameters)
   if (!is.null(x$emulator)) {
     cat(sprintf("\nEmulator (standardised scale), fixed at its posterior mode given the runs (stage 1, %s):\n",

@@ -151,6 +151,18 @@ output_draw_names <- function(variables, data, emulator) {
   variables
 }
 
+# Whether a fit's (or a spec's) noise is AR(1) over consecutive rows.
+is_ar1 <- function(settings) identical(settings$noise_correlation, "ar1")
+
+# The AR(1) noise's segments of a one-output fit's field rows, as
+# calibrate() resolved them (fits made before they were kept: found again).
+fit_segments <- function(fit) {
+  if (!is_ar1(fit$settings)) {
+    return(NULL)
+  }
+  fit$settings$segments[[1]] %||% field_segments(fit$data)
+}
+
 # The likelihood structure a fit was made with (fits made before 0.2.0 are dense).
 fit_structure <- function(fit) {
   fit$settings$structure %||% "dense"

@@ -27,7 +27,9 @@ output_view <- function(fit, k, emulator, part) {
     }
     chain
   })
-  new_bayesbem_fit(draws, fit$sampler, inits, fit$data$outputs[[k]], fit$priors, fit$settings,
+  settings <- fit$settings
+  settings$segments <- settings$segments[k]
+  new_bayesbem_fit(draws, fit$sampler, inits, fit$data$outputs[[k]], fit$priors, settings,
                    emulator = emulator)
 }
 

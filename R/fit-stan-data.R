@@ -172,6 +172,12 @@ output_data.default <- function(data) list(data)
 
 output_data.bayesbem_outputs <- function(data) data$outputs
 
+# The AR(1) noise's segments of each output's field rows (field_segments()),
+# by output: what calibrate() resolves once and a fit keeps.
+output_segments <- function(data, call = rlang::caller_env()) {
+  lapply(output_data(data), field_segments, call = call)
+}
+
 output_emulators <- function(data, emulator) UseMethod("output_emulators")
 
 output_emulators.default <- function(data, emulator) list(emulator)
@@ -250,8 +256,9 @@ stan_inits <- function(init, emulator) {
 # The data of koh_basis.stan: stage 2's common data (stage2_stan_data())
 # and the pieces of each output's basis emulator (`emulator$basis`),
 # stacked by output: its rows and its components a block of the bases `B`;
-# with an hsgp_design() `hsgp`, the additive discrepancy's (hsgp_stan_data()).
-basis_stan_data <- function(data, priors, emulator, hsgp = NULL, ar1 = FALSE) {
+# with an hsgp_design() `hsgp`, the additive discrepancy's (hsgp_stan_data()),
+# with AR(1) noise over each output's `segments` (output_segments()) when given.
+basis_stan_data <- function(data, priors, emulator, hsgp = NULL, segments = NULL) {
   bases <- lapply(output_emulators(data, emulator), `[[`, "basis")
   gps <- unlist(lapply(bases, `[[`, "components"), recursive = FALSE)
   mt <- nrow(bases[[1]]$tc)
@@ -267,7 +274,6 @@ basis_stan_data <- function(data, priors, emulator, hsgp = NULL, ar1 = FALSE) {
                w_s2 = as.array(vapply(gps, `[[`, numeric(1), "s2")),
                w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
                w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
-  segments <- if (ar1) lapply(output_data(data), field_segments)
   sd <- hsgp_stan_data(sd, hsgp, segments)
   # the sampler's z is u itself until laplace_map() sets the map
   n_u <- sum(basis_u_sizes(sd))

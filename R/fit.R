@@ -258,7 +258,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   sampler$start_at_mode <- spec$discrepancy_kernel == "additive"
   hsgp <- if (spec$discrepancy_kernel == "additive") hsgp_design()
   program <- stan_program(data, priors, stage1, spec$emulator, spec$modular, spec$structure,
-                          predict_at, hsgp, spec$noise_correlation == "ar1")
+                          predict_at, hsgp, spec$segments)
   label <- sprintf("%s %d chain%s", if (spec$modular) "Stage 2: sampling" else "Sampling",
                    chains, if (chains > 1L) "s" else "")
   stanfit <- do.call(sample_chains, c(list(program$model, program$data, label = label,
@@ -267,6 +267,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                    control = spec$control, structure = spec$structure, modular = spec$modular,
                    emulator = spec$emulator, discrepancy_kernel = spec$discrepancy_kernel,
                    hsgp = hsgp, noise_correlation = spec$noise_correlation,
+                   segments = spec$segments,
                    minor_modes = spec$minor_modes, lapack = spec$lapack,
                    dropped = attr(stanfit, "dropped"), restarted = restarted_chains(stanfit),
                    kept_moved = attr(stanfit, "kept_moved"))
@@ -320,6 +321,8 @@ calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, co
   noise_correlation <- choose_noise_correlation(
     match_choice(noise_correlation, c("auto", "none", "ar1"), "noise_correlation", call = call),
     discrepancy_kernel, data)
+  # the AR(1) noise's segments of each output's rows, found once
+  segments <- if (noise_correlation == "ar1") output_segments(data, call = call)
   defaults <- default_sampling(modular, largest_output(data), emulator, discrepancy_kernel)
   check_count(chains)
   check_count(cores)
@@ -331,7 +334,8 @@ calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, co
   check_prior_covers(data)
   list(data = data, several = several, structure = structure, modular = modular,
        emulator = emulator, discrepancy_kernel = discrepancy_kernel,
-       noise_correlation = noise_correlation, iter = lengths$iter, warmup = lengths$warmup,
+       noise_correlation = noise_correlation, segments = segments, iter = lengths$iter,
+       warmup = lengths$warmup,
        control = merge_control(control, defaults$control), lapack = lapack,
        minor_modes = match_choice(minor_modes, c("drop", "keep"), "minor_modes", call = call))
 }
@@ -345,10 +349,10 @@ calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, co
 #     (additive discrepancy, an hsgp_design() `hsgp`: its hsgp block)
 # Stage 1 of a modular fit is koh.stan, "emulator" (emulator_stan_data()).
 stan_program <- function(data, priors, stage1, emulator, modular, structure, predict_at,
-                         hsgp = NULL, ar1 = FALSE) {
+                         hsgp = NULL, segments = NULL) {
   if (emulator == "basis") {
     return(list(model = stanmodels$koh_basis,
-                data = basis_stan_data(data, priors, stage1, hsgp, ar1)))
+                data = basis_stan_data(data, priors, stage1, hsgp, segments)))
   }
   if (modular) {
     return(list(model = stanmodels$koh, data = modular_stan_data(data, priors, stage1)))
@@ -602,7 +606,6 @@ choose_noise_correlation <- function(correlation, kernel, data, call = rlang::ca
                      i = "Use {.code discrepancy_kernel = \"additive\"} (with the basis emulator)."),
                    "argument", call = call)
   }
-  for (d in output_data(data)) field_segments(d, call = call)
   "ar1"
 }
 

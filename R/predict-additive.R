@@ -32,7 +32,7 @@ additive_geometry <- function(fit) {
   h <- discrepancy_design(data)
   z <- hsgp_columns(basis$B, field_grid_inputs(data), r0, h, design)
   u <- z[, seq_len(ncol(z) - 1L - ncol(h)), drop = FALSE]
-  segments <- if (identical(fit$settings$noise_correlation, "ar1")) field_segments(data)
+  segments <- fit_segments(fit)
   list(basis = basis, design = design, pc = ncol(basis$B), u = u, gram = crossprod(z),
        ar = if (!is.null(segments)) ar1_grams(z, segments), segments = segments,
        r0 = r0, h = h, noise = noise_weights(data))

@@ -55,7 +55,7 @@ draw_parameters <- function(fit, ndraws = NULL) {
   coef <- if (ncol(select) > 0L) get("b") %*% t(select) else matrix(0, nrow(tf), nrow(select))
   idx <- draw_subset(nrow(tf), ndraws)
   additive <- is_additive(fit)
-  phi <- if (identical(fit$settings$noise_correlation, "ar1")) get("phi") else matrix(0, nrow(tf))
+  phi <- if (is_ar1(fit$settings)) get("phi") else matrix(0, nrow(tf))
   draws <- lapply(idx, function(i) {
     list(tf = tf[i, ], beta_eta = beta_eta[i, ], beta_delta = beta_delta[i, ],
          lambda_eta = lambda[i, 1], lambda_delta = lambda[i, 2], lambda_e = lambda[i, 3],

@@ -31,7 +31,7 @@ predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE, types = c(
 # for white noise): from `times`, else x's period column, else the field
 # rows' when x is the field rows in order.
 noise_rows <- function(fit, x, times = NULL, call = rlang::caller_env()) {
-  if (!identical(fit$settings$noise_correlation, "ar1")) {
+  if (!is_ar1(fit$settings)) {
     return(NULL)
   }
   data <- fit$data
@@ -46,7 +46,7 @@ noise_rows <- function(fit, x, times = NULL, call = rlang::caller_env()) {
                      i = "Give {.arg newdata} the column {.field {period %||% \"time\"}}, or leave out the noise."),
                    "columns", call = call)
   }
-  field_segments(data, call = call)
+  fit_segments(fit)
 }
 
 # Draws (rows) by new rows (columns) of eta and delta, scaled, from the

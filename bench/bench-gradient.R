@@ -78,7 +78,7 @@ if (hourly) {
       n = n, components = ncol(basis$B), basis_functions = additive$m * d$p, setup_s = setup,
       additive_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_basis, additive),
       additive_ar1_ms = 1000 * grad_time(bayesbem:::stanmodels$koh_basis, bayesbem:::basis_stan_data(
-        d, priors, emulator, bayesbem:::hsgp_design(), ar1 = TRUE)),
+        d, priors, emulator, bayesbem:::hsgp_design(), bayesbem:::output_segments(d))),
       product_ms = product)
     print(rows[[length(rows)]], digits = 3, row.names = FALSE)
   }

@@ -358,6 +358,6 @@ ar1_basis_case <- function(priors = koh_priors()) {
   emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
                    b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))), basis = basis)
   sd <- bayesbem:::basis_stan_data(d, priors, emulator, bayesbem:::hsgp_design(m = 6, boundary = 3),
-                                   ar1 = TRUE)
+                                   bayesbem:::output_segments(d))
   list(data = d, segments = rep(1:2, c(4, 5)), basis = basis, sd = sd)
 }

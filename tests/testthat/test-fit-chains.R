@@ -148,10 +148,12 @@ test_that("restarted chains start from the main mode's draws and are reported", 
   first <- sample_seb(1)
   inits <- bayesbem:::restart_inits(first, 2)
   draws <- as.array(first)[, 1, ]
+  # every parameter of the program, those the grid likelihood does not sample with no elements
   expect_named(inits[[2]], c("tf", "rho_eta", "rho_delta", "lambda_eta", "lambda_delta",
-                             "lambda_e", "gamma", "b"))
+                             "lambda_e", "gamma", "b", "y_pred"))
+  expect_length(inits[[2]]$y_pred, 0L)
   expect_equal(inits[[2]]$tf, array(unname(draws[75, sprintf("tf[%d]", 1:3)]), 3))
-  expect_equal(inits[[1]]$lambda_e, unname(draws[38, "lambda_e"]))
+  expect_equal(inits[[1]]$lambda_e, array(unname(draws[38, "lambda_e[1]"]), 1))
   # the judgement made to restart chain 2 from chain 1 (it is tested above)
   judge <- bayesbem:::minor_mode_chains
   utils::assignInNamespace("minor_mode_chains", function(draws, divergent) {
@@ -287,7 +289,7 @@ small_basis_data <- function(ar1 = FALSE) {
                    basis = bayesbem:::basis_emulator(d, variance = 0.99))
   list(d = d, sd = bayesbem:::basis_stan_data(d, priors, emulator,
                                               bayesbem:::hsgp_design(m = 6, boundary = 3),
-                                              ar1 = ar1))
+                                              if (ar1) bayesbem:::output_segments(d)))
 }
 
 test_that("a chain started at the mode starts where the gradient vanishes, from its own start", {

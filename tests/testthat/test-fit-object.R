@@ -31,3 +31,19 @@ test_that("a joint fit's precisions, vectors of one in Stan, are named as number
                c("tf[1]", "rho_delta[1]", "lambda_eta", "lambda_delta", "lambda_e", "b[1]",
                  "beta_eta[1]", "lp__"))
 })
+
+test_that("a fit's AR(1) segments are the ones calibrate() resolved, read by one predicate", {
+  case <- ar1_basis_case()
+  d <- case$data
+  ar1 <- list(noise_correlation = "ar1", segments = list(c(1L, 1L, 2L)))
+  fit <- bayesbem:::new_bayesbem_fit(NULL, NULL, NULL, d, koh_priors(), ar1)
+  expect_true(bayesbem:::is_ar1(fit$settings))
+  expect_equal(bayesbem:::fit_segments(fit), c(1L, 1L, 2L))
+  # a fit made before they were kept finds them from its data
+  fit$settings$segments <- NULL
+  expect_equal(bayesbem:::fit_segments(fit), case$segments)
+  white <- bayesbem:::new_bayesbem_fit(NULL, NULL, NULL, d, koh_priors(),
+                                       list(noise_correlation = "none"))
+  expect_false(bayesbem:::is_ar1(white$settings))
+  expect_null(bayesbem:::fit_segments(white))
+})

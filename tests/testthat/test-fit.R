@@ -381,3 +381,25 @@ test_that("a meter no run reaches is reported before anything is fitted", {
   big$y <- 10 * big$y
   expect_snapshot(calibrate(big, seb_sim, chains = 1, seed = 1), error = TRUE)
 })
+
+test_that("the spec resolves the noise model once, with each output's segments", {
+  withr::local_seed(1)
+  d <- random_grid_data(n = 40, runs = 8, extra = 2)
+  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * c(0:19, 22:41)
+  d$names$period <- "time"
+  spec <- bayesbem:::calibration_spec_of(d, NULL, discrepancy_kernel = "additive")
+  expect_true(bayesbem:::is_ar1(spec))
+  # a gap of two hours starts a second segment
+  expect_equal(spec$segments, list(rep(1:2, each = 20)))
+  white <- bayesbem:::calibration_spec_of(d, NULL, discrepancy_kernel = "additive",
+                                          noise_correlation = "none")
+  expect_false(bayesbem:::is_ar1(white))
+  expect_null(white$segments)
+  # the Stan data read the spec's segments: one segment count per output
+  stage1 <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                 b = numeric(sum(bayesbem:::mean_selection(koh_priors(), d$p, d$q))),
+                 basis = bayesbem:::basis_emulator(d, variance = 0.99))
+  sd <- bayesbem:::basis_stan_data(d, koh_priors(), stage1, bayesbem:::hsgp_design(),
+                                   spec$segments)
+  expect_equal(c(sd$ar, sd$n_seg), c(1, 2))
+})
