@@ -10,7 +10,8 @@
 #     Guideline 14's aggregate FSU (total +- FSU x total) does;
 #   timing: a portfolio of N buildings on 1 and on 2 local workers
 #     (multisession): wall time, buildings per hour, scaling efficiency
-#     (T1 / (2 T2)).
+#     (T1 / (2 T2)), the buildings' jobs' own seconds summed, and the wall
+#     time beyond that sum over the workers.
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-portfolio.R coverage [P] [B]    (default 20 10; BENCH_WORKERS,
 #                                                       default 2; BENCH_FROM, the first
@@ -88,10 +89,17 @@ if (what == "coverage") {
 } else {
   n <- if (length(args) > 1L) as.integer(args[2]) else 20L
   problem <- portfolio(1L, n)
-  times <- vapply(1:2, function(w) {
-    run(problem$buildings, w, file.path(tempdir(), sprintf("timing-%d", w)))$seconds
-  }, numeric(1))
+  runs <- lapply(1:2, function(w) {
+    run(problem$buildings, w, file.path(tempdir(), sprintf("timing-%d", w)))
+  })
+  times <- vapply(runs, `[[`, numeric(1), "seconds")
+  # each building's own seconds (its job, in its worker): a sum that grows
+  # with the workers is the jobs slowing each other, wall time beyond
+  # sum / workers is start-up and uneven shares
+  job_seconds <- vapply(runs, function(r) sum(summary(r$portfolio)$buildings$seconds), numeric(1))
   print(data.frame(workers = 1:2, buildings = n, seconds = round(times),
                    buildings_per_hour = round(3600 * n / times),
-                   efficiency = round(c(1, times[1] / (2 * times[2])), 2)), row.names = FALSE)
+                   efficiency = round(c(1, times[1] / (2 * times[2])), 2),
+                   job_seconds = round(job_seconds),
+                   beyond_jobs = round(times - job_seconds / 1:2)), row.names = FALSE)
 }

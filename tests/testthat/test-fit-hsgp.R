@@ -103,8 +103,10 @@ test_that("AR(1) noise needs the additive discrepancy and the rows' times", {
   expect_identical(choose("auto", "additive", d), "none")
   expect_identical(choose("none", "additive", d), "none")
   expect_error(choose("ar1", "product", d), class = "bayesbem_error_argument")
-  expect_error(choose("ar1", "additive", d), class = "bayesbem_error_argument")
-  expect_snapshot(choose("ar1", "additive", d), error = TRUE)
+  # the rows' times are read where the spec finds the noise's segments, before sampling
+  expect_error(bayesbem:::output_segments(d), class = "bayesbem_error_argument")
+  expect_snapshot(calibrate(d, emulator = "basis", discrepancy_kernel = "additive",
+                            noise_correlation = "ar1"), error = TRUE)
   d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * 0:8
   d$names$period <- "time"
   expect_identical(choose("ar1", "additive", d), "ar1")
