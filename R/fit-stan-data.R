@@ -6,8 +6,8 @@
 koh_likelihoods <- c(dense = 1L, grid = 2L, emulator = 3L, modular = 4L)
 
 # The data block of koh.stan for one of its likelihoods: the `fields` that
-# likelihood reads, and every field it does not read at size zero (each
-# output's row one output when not given).
+# likelihood reads, and every field it does not read at size zero (one
+# output, every row its row, when `output` is not among them).
 koh_program_data <- function(likelihood, fields) {
   p <- fields$p
   mt <- fields$mt
