@@ -37,7 +37,7 @@ stanfit_fit <- function(stanfit, data, priors, settings, predict_at = NULL, emul
 with_fixed_emulator <- function(draws, data, emulator) {
   emulators <- output_emulators(data, emulator)
   values <- lapply(c("beta_eta", "lambda_eta", "b"), function(par) {
-    v <- unlist(lapply(emulators, `[[`, par))
+    v <- as.vector(emulator_columns(emulators, par))
     stats::setNames(v, sprintf("%s[%d]", par, seq_along(v)))
   })
   values <- unlist(values)

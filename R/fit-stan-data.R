@@ -29,7 +29,7 @@ koh_program_data <- function(likelihood, fields) {
 koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
                           call = rlang::caller_env()) {
   prior_data <- koh_prior_data(data, priors, call = call)
-  field <- list(n = data$n, p = data$p, q = data$q, y = data$y, K = 1L,
+  field <- list(n = data$n, p = data$p, q = data$q, y = data$y,
                 noise_weight = as.array(noise_weights(data)))
   if (structure == "grid") {
     grid <- data$grid
@@ -144,10 +144,10 @@ emulator_stan_data <- function(data, priors) {
 }
 
 # The data every stage-2 program takes, for one output or several (`data` a
-# bayesbem_data or bayesbem_outputs object, `emulator` its stage-1 emulator
-# or their list): the field data stacked by output (each on its own
-# scaling), the runs' design they share, the priors, the discrepancy terms
-# of each output in its own columns (zero in the others' rows).
+# bayesbem_data or bayesbem_outputs object): the field data stacked by
+# output (each on its own scaling), the runs' design they share, the
+# priors, the discrepancy terms of each output in its own columns (zero in
+# the others' rows).
 stage2_stan_data <- function(data, priors) {
   outputs <- output_data(data)
   first <- outputs[[1]]
