@@ -50,8 +50,10 @@ ar1_cor <- function(phi, segments) {
 # Observation noise N(0, w_i / lambda_e), standardised: draws (rows) by
 # periods of weights `w` (columns); with a draw's AR(1) coefficient `phi`,
 # correlated within `segments` (noise_segments() of the periods). `extra`:
-# a variance per period that shares it (as noise_cov()'s).
-noise_matrix <- function(draws, w, segments = NULL, extra = 0) {
+# a variance per period that shares it (as noise_cov()'s). With the
+# periods' `months` (a shift per month), each month's shift added
+# (shift_matrix(), the training months' from `known`).
+noise_matrix <- function(draws, w, segments = NULL, extra = 0, months = NULL, known = NULL) {
   lambda_e <- vapply(draws, `[[`, numeric(1), "lambda_e")
   phi <- vapply(draws, function(par) par$phi %||% 0, numeric(1))
   z <- if (all(phi == 0)) {
@@ -59,7 +61,8 @@ noise_matrix <- function(draws, w, segments = NULL, extra = 0) {
   } else {
     t(vapply(phi, ar1_series, numeric(length(w)), segments = segments))
   }
-  z * sqrt(extra + outer(1 / lambda_e, w))
+  e <- z * sqrt(extra + outer(1 / lambda_e, w))
+  if (is.null(months)) e else e + shift_matrix(draws, months, known)
 }
 
 # AR(1) noise (calibrate(noise_correlation = "ar1")): the errors of
@@ -90,13 +93,19 @@ data_segments <- function(data) {
 # The segments of a data set's field rows, from its period column (an
 # error without one: which rows follow which is not in the inputs).
 field_segments <- function(data, call = rlang::caller_env()) {
-  segments <- data_segments(data)
-  if (is.null(segments)) {
-    abort_bayesbem(c("AR(1) noise needs the times of the field rows.",
+  noise_segments(field_times(data, "AR(1) noise", call = call))
+}
+
+# A data set's field times (its period column), which `what` needs: an
+# error without them.
+field_times <- function(data, what, call = rlang::caller_env()) {
+  period <- data$names$period
+  if (is.null(period)) {
+    abort_bayesbem(c("{what} needs the times of the field rows.",
                      i = "Give the field a {.cls POSIXct} or {.cls Date} column (as {.fn field_hours} does: {.field time}), or name it with {.arg period} in {.fn koh_data}."),
                    "argument", call = call)
   }
-  segments
+  data$field[[period]]
 }
 
 # The products a likelihood with AR(1) noise needs of the rows of z, given
@@ -133,4 +142,49 @@ ar1_series <- function(phi, segments) {
   unlist(lapply(split(nu, segments), function(v) {
     as.numeric(stats::filter(v, phi, method = "recursive"))
   }), use.names = FALSE)
+}
+
+# A shift per calendar month (calibrate(noise_shift = "month")): the
+# errors of output k add l_m(i) to the AR(1) (or white) noise of each row i
+# of month m(i), l_m ~ N(0, 1 / lambda_shift) independent between months,
+# so that a month's total carries the month's shift (a meter's use that
+# moves month by month beyond what the inputs explain). The shifts are
+# U's further columns in the additive likelihood (koh_basis.stan), the
+# rows' indicators of their months: no cost in the rows.
+
+# The calendar month ("2019-10") of each time (Date, or POSIXct in its own
+# time zone).
+period_months <- function(times) {
+  if (inherits(times, "POSIXct")) {
+    return(format(times, "%Y-%m", tz = attr(times, "tzone") %||% ""))
+  }
+  format(times, "%Y-%m")
+}
+
+# The months of a data set's field rows, from its period column (an error
+# without one).
+field_months <- function(data, call = rlang::caller_env()) {
+  period_months(field_times(data, "A shift per month", call = call))
+}
+
+# The rows' indicators (rows by `months`) of their months `labels`.
+shift_columns <- function(labels, months = sort(unique(labels))) {
+  m <- outer(labels, months, "==") + 0
+  colnames(m) <- months
+  m
+}
+
+# Each draw's (rows) month shift at each period of months `labels`
+# (columns), standardised: a month among the columns of `known` (draws by
+# months, the fit's training months given the data) takes its draw there,
+# any other month a draw from N(0, 1 / lambda_shift), one per month and
+# draw, shared by the month's periods.
+shift_matrix <- function(draws, labels, known = NULL) {
+  months <- unique(labels)
+  sd <- 1 / sqrt(vapply(draws, `[[`, numeric(1), "lambda_shift"))
+  shifts <- vapply(months, function(m) {
+    if (m %in% colnames(known)) known[, m] else stats::rnorm(length(sd), 0, sd)
+  }, numeric(length(sd)))
+  shifts <- matrix(shifts, nrow = length(sd), dimnames = list(NULL, months))
+  shifts[, labels, drop = FALSE]
 }

@@ -14,7 +14,7 @@ explanation_geometry <- function(fit) {
     return(gp_geometry(data, NULL, fit_structure(fit)))
   }
   list(n = data$n, y = data$y, h = discrepancy_design(data), basis = basis,
-       noise = noise_weights(data), segments = data_segments(data))
+       noise = noise_weights(data), segments = data_segments(data), months = fit_shifts(fit))
 }
 
 # For each draw of `pars`: the field outputs' residual from the emulator's
@@ -49,7 +49,8 @@ residuals_given_runs <- function(g, pars) {
 # residuals_given_runs(). With the basis emulator, at a cost linear in the
 # rows, the j-th from the draws in turn: B (sqrt(kappa v(tf)) * z) plus
 # noise of variance kappa s2r + w / lambda_e (white, or AR(1) within the
-# segments), a mixture over the draws with the same covariance.
+# segments; with a shift per month, the months' shifts from their prior), a
+# mixture over the draws with the same covariance.
 null_residuals <- function(g, pars, given_runs, kappa, n_null) {
   basis <- g$basis
   if (is.null(basis)) {
@@ -61,7 +62,7 @@ null_residuals <- function(g, pars, given_runs, kappa, n_null) {
                         numeric(pc)), pc)
   of <- (seq_len(n_null) - 1L) %% length(pars) + 1L
   emulator <- basis$B %*% (sd_w[, of, drop = FALSE] * stats::rnorm(pc * n_null))
-  emulator + t(noise_matrix(pars[of], g$noise, g$segments, kappa * basis$s2r))
+  emulator + t(noise_matrix(pars[of], g$noise, g$segments, kappa * basis$s2r, g$months))
 }
 
 # How much the emulator understates its own error: the mean squared

@@ -52,10 +52,13 @@ hsgp_spectral <- function(design, beta, lambda) {
   }))
 }
 
-# Z = [B, Phi(x), r, h] of one output's rows (basis, scaled inputs,
-# outputs less the runs' mean, discrepancy terms): the columns whose Gram
-# matrices koh_basis.stan and the additive conditionals read.
-hsgp_columns <- function(basis, x, r, h, design) cbind(basis, hsgp_phi(x, design), r, h)
+# Z = [B, Phi(x), M, r, h] of one output's rows (basis, scaled inputs, the
+# rows' month indicators `months` if any (shift_columns()), outputs less
+# the runs' mean, discrepancy terms): the columns whose Gram matrices
+# koh_basis.stan and the additive conditionals read.
+hsgp_columns <- function(basis, x, r, h, design, months = NULL) {
+  cbind(basis, hsgp_phi(x, design), months, r, h)
+}
 
 # The approximate discrepancy covariance between the rows of x1 and x2.
 hsgp_cov <- function(x1, x2, design, beta, lambda) {

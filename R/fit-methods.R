@@ -8,7 +8,8 @@
 #' parameters `beta_eta[...]` and `beta_delta[...]` are labelled by input;
 #' `lambda_eta`, `lambda_delta` and `lambda_e` are precisions on the
 #' standardised output scale; `phi` (with `noise_correlation = "ar1"`) is
-#' the noise's AR(1) coefficient; `b[...]` are the coefficients of the emulator
+#' the noise's AR(1) coefficient; `lambda_shift` (with `noise_shift =
+#' "month"`) the precision of the months' shifts; `b[...]` are the coefficients of the emulator
 #' mean (see [koh_priors()]) on the standardised output scale per unit of
 #' the scaled \[0, 1\] inputs.
 #'
@@ -31,7 +32,7 @@ as_draws_array.bayesbem_fit <- function(x, ...) {
   d <- x$data
   h_names <- names(d$covariates)
   b_names <- mean_term_names(x$priors, d)
-  phi <- if (is_ar1(x$settings)) "phi"
+  phi <- c(if (is_ar1(x$settings)) "phi", if (has_shifts(x$settings)) "lambda_shift")
   arr <- unclass(posterior::subset_draws(
     x$draws, variable = c("tf", "beta_eta", "beta_delta", "lambda_eta", "lambda_delta",
                           "lambda_e", phi, if (length(h_names) > 0L) "gamma",
@@ -156,7 +157,8 @@ print.summary.bayesbem_fit <- function(x, ...) {
               paste0(if (identical(st$emulator, "basis")) ", modular, basis emulator" else
                        if (isTRUE(st$modular)) ", modular" else "",
                      if (identical(st$discrepancy_kernel, "additive")) ", additive discrepancy",
-                     if (is_ar1(st)) ", AR(1) noise")))
+                     if (is_ar1(st)) ", AR(1) noise",
+                     if (has_shifts(st)) ", a shift per month")))
   cat(sprintf("NUTS: %d chains x %d iterations (%d warm-up), seed %d; %d divergent transitions%s\n\n",
               st$chains, st$iter, st$warmup, st$seed, x$sampler$divergent,
               minor_modes_label(st$dropped, st$restarted, st$kept_moved)))

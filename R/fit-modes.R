@@ -119,7 +119,7 @@ parameter_block <- function(names = character()) {
     return(list(logit = character(), log = character(), identity = "z"))
   }
   list(logit = c(if (!"tf_u" %in% names) "tf", "rho_eta", "rho_delta"),
-       log = c("lambda_eta", "lambda_delta", "lambda_e"),
+       log = c("lambda_eta", "lambda_delta", "lambda_e", "lambda_shift"),
        identity = c("b", "gamma", "y_pred", "tf_u"))
 }
 

@@ -115,8 +115,8 @@ output_elements <- function(k, p, q, n_b, n_h) {
   block <- function(size) (k - 1L) * size + seq_len(size)
   list(elements = list(rho_delta = block(p), beta_delta = block(p), beta_eta = block(p + q),
                        b = block(n_b), lambda_delta = k, lambda_e = k, lambda_eta = k, phi = k,
-                       gamma = sum(n_h[seq_len(k - 1L)]) + seq_len(n_h[k])),
-       scalars = c("lambda_delta", "lambda_e", "lambda_eta", "phi"))
+                       lambda_shift = k, gamma = sum(n_h[seq_len(k - 1L)]) + seq_len(n_h[k])),
+       scalars = c("lambda_delta", "lambda_e", "lambda_eta", "phi", "lambda_shift"))
 }
 
 # output_elements() of each output of a modular fit's data, by output.
@@ -161,6 +161,15 @@ fit_segments <- function(fit) {
     return(NULL)
   }
   fit$settings$segments[[1]] %||% field_segments(fit$data)
+}
+
+# Whether a fit's (or a spec's) noise has a shift per month.
+has_shifts <- function(settings) identical(settings$noise_shift, "month")
+
+# The months of a one-output fit's field rows, as calibrate() resolved them
+# (NULL without a shift per month).
+fit_shifts <- function(fit) {
+  if (has_shifts(fit$settings)) fit$settings$shifts[[1]]
 }
 
 # The likelihood structure a fit was made with (fits made before 0.2.0 are dense).

@@ -29,6 +29,7 @@ output_view <- function(fit, k, emulator, part) {
   })
   settings <- fit$settings
   settings$segments <- settings$segments[k]
+  settings$shifts <- settings$shifts[k]
   new_bayesbem_fit(draws, fit$sampler, inits, fit$data$outputs[[k]], fit$priors, settings,
                    emulator = emulator)
 }

@@ -246,7 +246,7 @@ stan_inits <- function(init, emulator) {
     return(init)
   }
   lapply(init, function(chain) {
-    for (par in intersect(c("lambda_eta", "lambda_delta", "lambda_e"), names(chain))) {
+    for (par in intersect(c("lambda_eta", "lambda_delta", "lambda_e", "lambda_shift"), names(chain))) {
       chain[[par]] <- as.array(chain[[par]])
     }
     chain
@@ -257,8 +257,9 @@ stan_inits <- function(init, emulator) {
 # and the pieces of each output's basis emulator (`emulator$basis`),
 # stacked by output: its rows and its components a block of the bases `B`;
 # with an hsgp_design() `hsgp`, the additive discrepancy's (hsgp_stan_data()),
-# with AR(1) noise over each output's `segments` (output_segments()) when given.
-basis_stan_data <- function(data, priors, emulator, hsgp = NULL, segments = NULL) {
+# with AR(1) noise over each output's `segments` (output_segments()) and a
+# shift per month of each output's rows' `shifts` (field_months()) when given.
+basis_stan_data <- function(data, priors, emulator, hsgp = NULL, segments = NULL, shifts = NULL) {
   bases <- lapply(output_emulators(data, emulator), `[[`, "basis")
   gps <- unlist(lapply(bases, `[[`, "components"), recursive = FALSE)
   mt <- nrow(bases[[1]]$tc)
@@ -274,7 +275,8 @@ basis_stan_data <- function(data, priors, emulator, hsgp = NULL, segments = NULL
                w_s2 = as.array(vapply(gps, `[[`, numeric(1), "s2")),
                w_nug = as.array(vapply(gps, `[[`, numeric(1), "nug")),
                w_alpha = field("alpha", mt), w_Ki = do.call(rbind, lapply(gps, `[[`, "ki"))))
-  sd <- hsgp_stan_data(sd, hsgp, segments)
+  sd <- hsgp_stan_data(sd, hsgp, segments, shifts)
+  sd[c("lambda_shift_shape", "lambda_shift_rate")] <- as.list(shift_prior(priors))
   # the sampler's z is u itself until laplace_map() sets the map
   n_u <- sum(basis_u_sizes(sd))
   c(sd, list(n_u = n_u, u_offset = as.array(numeric(n_u)), u_scale = diag(n_u)))
@@ -282,25 +284,28 @@ basis_stan_data <- function(data, priors, emulator, hsgp = NULL, segments = NULL
 
 # koh_basis.stan's data of the additive Hilbert-space discrepancy added to
 # its data `sd`: the frequencies, and each output's Gram matrix of Z_k =
-# [B_k, Phi_k, y_k - mu_f_k, h_k] on the diagonal of `gram`, the only use
-# the likelihood makes of the rows; with AR(1) noise (`segments`, each
+# [B_k, Phi_k, M_k, y_k - mu_f_k, h_k] on the diagonal of `gram`, the only
+# use the likelihood makes of the rows (M_k the indicators of the months of
+# all outputs' `shifts`, none without); with AR(1) noise (`segments`, each
 # output's noise_segments()), its ar1_grams() on the diagonals of
 # `gram_lag` and `gram_end`. None (hsgp = 0) when `design` is NULL.
-hsgp_stan_data <- function(sd, design, segments = NULL) {
+hsgp_stan_data <- function(sd, design, segments = NULL, shifts = NULL) {
   none <- list(ar = 0L, gram_lag = matrix(0, 0, 0), gram_end = matrix(0, 0, 0),
                n_seg = numeric(0))
   if (is.null(design)) {
-    return(c(sd, list(hsgp = 0L, m = 0L, omega = numeric(0), n_z = 0L, gram = matrix(0, 0, 0)),
-             none))
+    return(c(sd, list(hsgp = 0L, m = 0L, omega = numeric(0), n_shift = 0L, n_z = 0L,
+                      gram = matrix(0, 0, 0)), none))
   }
+  months <- sort(unique(unlist(shifts)))
   z <- lapply(seq_len(sd$K), function(k) {
     rows <- sd$output == k
     hsgp_columns(sd$B[rows, sd$pc_output == k, drop = FALSE], sd$xf[rows, , drop = FALSE],
-                 sd$y[rows] - sd$mu_f[rows], sd$h[rows, , drop = FALSE], design)
+                 sd$y[rows] - sd$mu_f[rows], sd$h[rows, , drop = FALSE], design,
+                 if (!is.null(shifts)) shift_columns(shifts[[k]], months))
   })
   gram <- block_diagonal(lapply(z, crossprod))
-  out <- c(sd, list(hsgp = 1L, m = design$m, omega = as.array(design$omega), n_z = nrow(gram),
-                    gram = gram))
+  out <- c(sd, list(hsgp = 1L, m = design$m, omega = as.array(design$omega),
+                    n_shift = length(months), n_z = nrow(gram), gram = gram))
   if (is.null(segments)) {
     return(c(out, none))
   }
@@ -336,18 +341,19 @@ basis_inits <- function(init) {
 # elements of each (its data `sd`).
 basis_u_sizes <- function(sd) {
   c(tf_u = sd$q, rho_delta = sd$p * sd$K, lambda_delta = sd$K, lambda_e = sd$K, gamma = sd$n_h,
-    phi = sd$ar * sd$K)
+    phi = sd$ar * sd$K, lambda_shift = (sd$n_shift > 0) * sd$K)
 }
 
 # koh_basis.stan's z for values of its named parameters (a list as one
 # chain's starting values: tf_u, rho_delta, lambda_delta, lambda_e, gamma,
-# phi): their unconstrained values u, in the program's order and by its
+# phi, lambda_shift): their unconstrained values u, in the program's order and by its
 # transforms, then z = u_scale^-1 (u - u_offset). A parameter not given
 # starts where Stan starts one, u ~ U(-2, 2).
 basis_z <- function(values, sd) {
   size <- basis_u_sizes(sd)
   to_u <- list(tf_u = function(v) v / sd$tf_multiplier, rho_delta = stats::qlogis, lambda_delta = log,
-               lambda_e = log, gamma = identity, phi = function(v) stats::qlogis((v + 1) / 2))
+               lambda_e = log, gamma = identity, phi = function(v) stats::qlogis((v + 1) / 2),
+               lambda_shift = log)
   u <- unlist(lapply(names(size), function(par) {
     v <- values[[par]]
     if (is.null(v)) stats::runif(size[[par]], -2, 2) else to_u[[par]](as.numeric(v))

@@ -129,6 +129,22 @@
 #'   discrepancy over rows with times of which some follow one another
 #'   (meter data by the hour or day; AR(1) holds white noise at `phi = 0`),
 #'   and `"none"` elsewhere (bills: the paper's).
+#' @param noise_shift A shift per calendar month in the observation noise:
+#'   `"month"` adds to each row's noise its month's shift, `N(0, 1 /
+#'   lambda_shift)` independent between months (prior
+#'   [koh_priors()]`$lambda_shift`), so that a month's total carries the
+#'   month-to-month movement of a meter's use that the inputs do not
+#'   explain (term time, a tenant's change); `"none"` leaves it out.
+#'   Needs `discrepancy_kernel = "additive"` (its likelihood takes the
+#'   months as further basis columns, at no cost in the rows) and the
+#'   field rows' times. Predictions with noise then draw each training
+#'   month's shift given the data and each other month's from its prior,
+#'   shared by the month's periods: a held-out month's total is as
+#'   uncertain as the training months' shifts say. `"auto"` (the default)
+#'   is `"month"` for the additive discrepancy over rows with times, at
+#'   least three months of them and several rows a month (meter data by
+#'   the hour or day), `"none"` elsewhere
+#'   (`inst/notes/decisions/S12-a-shift-per-month.md`).
 #' @param minor_modes What to do with chains stuck in a minor mode of the
 #'   posterior: `"drop"` (the default) deals with them as below, with a
 #'   message; `"keep"` keeps every chain as it ran. Each chain's mode gets a
@@ -231,15 +247,16 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                       structure = c("auto", "grid", "dense"), covariates = NULL,
                       modular = "auto", emulator = c("auto", "separable", "basis"),
                       discrepancy_kernel = c("auto", "product", "additive"),
-                      noise_correlation = c("auto", "none", "ar1"), minor_modes = c("drop", "keep"),
+                      noise_correlation = c("auto", "none", "ar1"),
+                      noise_shift = c("auto", "none", "month"), minor_modes = c("drop", "keep"),
                       progress = getOption("bayesbem.progress", TRUE), ...) {
   spec <- calibration_spec(field, sim, priors = priors, chains = chains, iter = iter,
                            warmup = warmup, cores = cores, control = control,
                            predict_at = predict_at, structure = structure,
                            covariates = covariates, modular = modular, emulator = emulator,
                            discrepancy_kernel = discrepancy_kernel,
-                           noise_correlation = noise_correlation, minor_modes = minor_modes,
-                           dots = list(...))
+                           noise_correlation = noise_correlation, noise_shift = noise_shift,
+                           minor_modes = minor_modes, dots = list(...))
   seed <- seed %||% sample.int(.Machine$integer.max, 1L)
   check_count(seed)
   check_bool(progress)
@@ -258,7 +275,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
   sampler$start_at_mode <- spec$discrepancy_kernel == "additive"
   hsgp <- if (spec$discrepancy_kernel == "additive") hsgp_design()
   program <- stan_program(data, priors, stage1, spec$emulator, spec$modular, spec$structure,
-                          predict_at, hsgp, spec$segments)
+                          predict_at, hsgp, spec$segments, spec$shifts)
   label <- sprintf("%s %d chain%s", if (spec$modular) "Stage 2: sampling" else "Sampling",
                    chains, if (chains > 1L) "s" else "")
   stanfit <- do.call(sample_chains, c(list(program$model, program$data, label = label,
@@ -267,7 +284,7 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
                    control = spec$control, structure = spec$structure, modular = spec$modular,
                    emulator = spec$emulator, discrepancy_kernel = spec$discrepancy_kernel,
                    hsgp = hsgp, noise_correlation = spec$noise_correlation,
-                   segments = spec$segments,
+                   segments = spec$segments, noise_shift = spec$noise_shift, shifts = spec$shifts,
                    minor_modes = spec$minor_modes, lapack = spec$lapack,
                    dropped = attr(stanfit, "dropped"), restarted = restarted_chains(stanfit),
                    kept_moved = attr(stanfit, "kept_moved"))
@@ -288,8 +305,8 @@ calibrate <- function(field, sim = NULL, priors = koh_priors(), chains = 4L,
 # calibrate_portfolio() checks before sending a building to a worker.
 calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, control,
                              predict_at, structure, covariates, modular, emulator,
-                             discrepancy_kernel, noise_correlation, minor_modes, dots,
-                             call = rlang::caller_env()) {
+                             discrepancy_kernel, noise_correlation, noise_shift,
+                             minor_modes, dots, call = rlang::caller_env()) {
   # the checks' errors name the caller's verb, not this helper
   rlang::local_error_call(call)
   data <- as_koh_data(field, sim)
@@ -323,6 +340,11 @@ calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, co
     discrepancy_kernel, data)
   # the AR(1) noise's segments of each output's rows, found once
   segments <- if (noise_correlation == "ar1") output_segments(data, call = call)
+  noise_shift <- choose_noise_shift(
+    match_choice(noise_shift, c("auto", "none", "month"), "noise_shift", call = call),
+    discrepancy_kernel, data)
+  # each output's rows' months, found once
+  shifts <- if (noise_shift == "month") lapply(output_data(data), field_months, call = call)
   defaults <- default_sampling(modular, largest_output(data), emulator, discrepancy_kernel)
   check_count(chains)
   check_count(cores)
@@ -334,7 +356,8 @@ calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, co
   check_prior_covers(data)
   list(data = data, several = several, structure = structure, modular = modular,
        emulator = emulator, discrepancy_kernel = discrepancy_kernel,
-       noise_correlation = noise_correlation, segments = segments, iter = lengths$iter,
+       noise_correlation = noise_correlation, segments = segments, noise_shift = noise_shift,
+       shifts = shifts, iter = lengths$iter,
        warmup = lengths$warmup,
        control = merge_control(control, defaults$control), lapack = lapack,
        minor_modes = match_choice(minor_modes, c("drop", "keep"), "minor_modes", call = call))
@@ -349,10 +372,10 @@ calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, co
 #     (additive discrepancy, an hsgp_design() `hsgp`: its hsgp block)
 # Stage 1 of a modular fit is koh.stan, "emulator" (emulator_stan_data()).
 stan_program <- function(data, priors, stage1, emulator, modular, structure, predict_at,
-                         hsgp = NULL, segments = NULL) {
+                         hsgp = NULL, segments = NULL, shifts = NULL) {
   if (emulator == "basis") {
     return(list(model = stanmodels$koh_basis,
-                data = basis_stan_data(data, priors, stage1, hsgp, segments)))
+                data = basis_stan_data(data, priors, stage1, hsgp, segments, shifts)))
   }
   if (modular) {
     return(list(model = stanmodels$koh, data = modular_stan_data(data, priors, stage1)))
@@ -609,6 +632,32 @@ choose_noise_correlation <- function(correlation, kernel, data, call = rlang::ca
   "ar1"
 }
 
+# noise_shift = "auto": "month" for the additive discrepancy over rows
+# with times, in at least three months and with more rows than months
+# (meter data by the hour or day); "none" elsewhere (bills: a shift per
+# bill would be the noise itself). "month" needs the additive discrepancy
+# (its likelihood takes the months as basis columns) and the rows' times.
+choose_noise_shift <- function(shift, kernel, data, call = rlang::caller_env()) {
+  if (shift == "auto") {
+    monthly <- function(d) {
+      period <- d$names$period
+      if (is.null(period)) {
+        return(FALSE)
+      }
+      months <- period_months(d$field[[period]])
+      length(unique(months)) >= 3L && length(months) > 2 * length(unique(months))
+    }
+    month <- kernel == "additive" && all(vapply(output_data(data), monthly, logical(1)))
+    return(if (month) "month" else "none")
+  }
+  if (shift == "month" && kernel != "additive") {
+    abort_bayesbem(c("A shift per month needs the additive discrepancy.",
+                     i = "Use {.code discrepancy_kernel = \"additive\"} (with the basis emulator)."),
+                   "argument", call = call)
+  }
+  shift
+}
+
 # emulator = "auto": the basis emulator for a modular fit of more than 36
 # field rows (see the @param); "basis" needs a modular fit. Returns
 # "separable", "basis", or "none" for a joint fit.
@@ -721,6 +770,7 @@ refit <- function(fit, ...) {
                emulator = if (isTRUE(settings$modular)) settings$emulator %||% "separable" else "auto",
                discrepancy_kernel = settings$discrepancy_kernel %||% "product",
                noise_correlation = settings$noise_correlation %||% "none",
+               noise_shift = settings$noise_shift %||% "none",
                minor_modes = settings$minor_modes %||% "keep",
                covariates = fit_covariates(fit))
   # replaced whole, not merged: a new bayesbem_data or priors is a list too

@@ -87,6 +87,7 @@ calibrate_portfolio <- function(buildings, dir, retrofit = NULL, ndraws = 40, se
   seeds <- buildings$seed %||% (seed + seq_len(nrow(buildings)) - 1L)
   pending <- which(!vapply(buildings$id, portfolio_done, logical(1), dir = dir))
   options <- list(...)
+  check_portfolio_options(options)
   sent <- pending[vapply(pending, function(i) portfolio_check(buildings[i, ], dir, options),
                          logical(1))]
   inform_portfolio(nrow(buildings), pending, sent)
@@ -168,6 +169,18 @@ portfolio_check <- function(building, dir, options) {
   }
   write_record(failed_record(building$id, checked, "refused"), dir)
   FALSE
+}
+
+# calibrate()'s arguments that calibrate_portfolio() sets for each job
+# refused in `...` (the building's data and runs, and the progress bar:
+# one bar counts the buildings).
+check_portfolio_options <- function(options, call = rlang::caller_env()) {
+  own <- intersect(names(options), c("field", "sim", "progress"))
+  if (length(own) > 0L) {
+    abort_bayesbem(c("{.arg {own}} {?is/are} set by {.fn calibrate_portfolio} for each building, not passed to {.fn calibrate}.",
+                     i = "Give each building's data and runs in {.arg buildings}; one progress bar counts the buildings."),
+                   "argument", call = call)
+  }
 }
 
 # calibration_spec() with calibrate()'s defaults for the settings `...`

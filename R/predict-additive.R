@@ -1,12 +1,15 @@
 # Conditionals of a fit with the additive discrepancy (R/fit-hsgp.R) at a
 # cost linear in the rows, as koh_basis.stan's likelihood: with the basis
 # emulator the field outputs are
-#   y - mu - h' gamma = U a + e,  U = [B, Phi],  a = (w, b),
-#   w ~ N(w(tf), diag(v(tf))),  b ~ N(0, diag(S)),  e ~ N(0, d I),
+#   y - mu - h' gamma = U a + e,  U = [B, Phi, M],  a = (w, b, l),
+#   w ~ N(w(tf), diag(v(tf))),  b ~ N(0, diag(S)),  l ~ N(0, I / lambda_shift),
+#   e ~ N(0, d I),
 # d = s2r + noise / lambda_e (the truncated components and the noise; with
-# AR(1) noise both AR(1) over consecutive rows, e ~ N(0, d R)), so
-# given the data a is normal in pc + m p dimensions, whatever the rows. With
-# c = (v, S), s = sqrt(c), a = a0 + diag(s) z and a0 = (w(tf), 0), z has
+# AR(1) noise both AR(1) over consecutive rows, e ~ N(0, d R); M the rows'
+# month indicators and l the months' shifts with a shift per month, none
+# otherwise), so given the data a is normal in pc + m p (+ months)
+# dimensions, whatever the rows. With c = (v, S, 1 / lambda_shift), s =
+# sqrt(c), a = a0 + diag(s) z and a0 = (w(tf), 0, 0), z has
 # precision A = I + diag(s) U'U diag(s) / d and mean A^-1 diag(s) U'(r - U
 # a0) / d, r = y - mu - h' gamma (Rasmussen & Williams 2006, Eq 2.8 on the
 # weights; the scaling by s keeps A well conditioned where a component's
@@ -22,18 +25,22 @@ is_additive <- function(fit) identical(fit$settings$discrepancy_kernel, "additiv
 
 # The parts of the conditionals that no draw changes: the basis emulator,
 # the Hilbert-space design, U at the field rows, the Gram matrix of Z = [U,
-# r0, h] (r0 = y - mu, h the discrepancy terms) and, with AR(1) noise, the
-# field rows' segments and ar1_grams() of Z.
+# r0, h] (r0 = y - mu, h the discrepancy terms, U's last columns the rows'
+# months with a shift per month) and, with AR(1) noise, the field rows'
+# segments and ar1_grams() of Z.
 additive_geometry <- function(fit) {
   data <- fit$data
   basis <- fit$emulator$basis
   design <- fit$settings$hsgp
   r0 <- data$y - basis$mu
   h <- discrepancy_design(data)
-  z <- hsgp_columns(basis$B, field_grid_inputs(data), r0, h, design)
+  months <- fit_shifts(fit)
+  months <- if (!is.null(months)) shift_columns(months)
+  z <- hsgp_columns(basis$B, field_grid_inputs(data), r0, h, design, months)
   u <- z[, seq_len(ncol(z) - 1L - ncol(h)), drop = FALSE]
   segments <- fit_segments(fit)
-  list(basis = basis, design = design, pc = ncol(basis$B), u = u, gram = crossprod(z),
+  list(basis = basis, design = design, pc = ncol(basis$B), months = colnames(months),
+       u = u, gram = crossprod(z),
        ar = if (!is.null(segments)) ar1_grams(z, segments), segments = segments,
        r0 = r0, h = h, noise = noise_weights(data))
 }
@@ -43,7 +50,8 @@ additive_geometry <- function(fit) {
 # U'U, U'r0 and U'h weighted by R^-1 under AR(1) noise.
 additive_posterior <- function(ag, par) {
   wv <- basis_weights(ag$basis, par$tf)
-  s <- sqrt(c(wv$var, hsgp_spectral(ag$design, par$beta_delta, par$lambda_delta)))
+  s <- sqrt(c(wv$var, hsgp_spectral(ag$design, par$beta_delta, par$lambda_delta),
+              rep(1 / par$lambda_shift, length(ag$months))))
   d <- ag$basis$s2r + ag$noise[1] / par$lambda_e
   a0 <- c(wv$mean, numeric(length(s) - ag$pc))
   g <- if (is.null(ag$ar)) ag$gram else ar1_weighted(ag$gram, ag$ar, par$phi)
@@ -57,17 +65,19 @@ additive_posterior <- function(ag, par) {
 }
 
 # One joint draw of the emulator at the field rows `at` (indices; none
-# with integer(0)) and of the discrepancy's Gaussian-process part at new
-# inputs, whose basis functions are `phi_new` (hsgp_phi()), for one draw of
-# the parameters.
+# with integer(0)), of the discrepancy's Gaussian-process part at new
+# inputs, whose basis functions are `phi_new` (hsgp_phi()), and of the
+# training months' shifts, for one draw of the parameters.
 additive_draw <- function(ag, par, at, phi_new) {
   post <- additive_posterior(ag, par)
   z <- post$z + backsolve(post$r, stats::rnorm(length(post$z)))
   a <- post$a0 + post$s * z
   w <- seq_len(ag$pc)
-  delta <- drop(phi_new %*% a[-w])
+  l <- length(a) - length(ag$months) + seq_along(ag$months)
+  delta <- drop(phi_new %*% a[-c(w, l)])
+  shift <- stats::setNames(a[l], ag$months)
   if (length(at) == 0L) {
-    return(list(eta = numeric(0), delta = delta))
+    return(list(eta = numeric(0), delta = delta, shift = shift))
   }
   # t at every field row, then the rows asked for (a row asked twice, one t)
   s2r <- ag$basis$s2r
@@ -76,13 +86,14 @@ additive_draw <- function(ag, par, at, phi_new) {
     ar1_series(par$phi, ag$segments)
   truncated <- s2r / post$d * e + sqrt(s2r * (1 - s2r / post$d)) * spread
   eta <- ag$basis$mu + drop(ag$basis$B %*% a[w]) + truncated
-  list(eta = eta[at], delta = delta)
+  list(eta = eta[at], delta = delta, shift = shift)
 }
 
 # Draws (rows) by new rows (columns) of eta and delta, scaled, for the
 # parameter draws `pars` (`x_new`: newdata's inputs scaled); eta (NA
 # otherwise) when `types` has "y" or "eta", which needs every row of
-# `newdata` to be a field row's inputs.
+# `newdata` to be a field row's inputs; and by the training months, their
+# shifts (`shift`, none without a shift per month).
 additive_joint <- function(fit, newdata, pars, types = c("y", "eta"),
                            x_new = scale_newdata(fit$data, newdata, call = call),
                            call = rlang::caller_env()) {
@@ -93,7 +104,8 @@ additive_joint <- function(fit, newdata, pars, types = c("y", "eta"),
   draws <- lapply(pars, additive_draw, ag = ag, at = at, phi_new = phi_new)
   delta <- do.call(rbind, lapply(draws, `[[`, "delta"))
   eta <- if (with_eta) do.call(rbind, lapply(draws, `[[`, "eta")) else NA * delta
-  list(eta = eta, delta = delta)
+  shift <- do.call(rbind, lapply(draws, `[[`, "shift"))
+  list(eta = eta, delta = delta, shift = shift)
 }
 
 # The field row with the inputs of each row of `newdata` (to 6 significant

@@ -56,11 +56,12 @@ draw_parameters <- function(fit, ndraws = NULL) {
   idx <- draw_subset(nrow(tf), ndraws)
   additive <- is_additive(fit)
   phi <- if (is_ar1(fit$settings)) get("phi") else matrix(0, nrow(tf))
+  lambda_shift <- if (has_shifts(fit$settings)) get("lambda_shift") else matrix(Inf, nrow(tf))
   draws <- lapply(idx, function(i) {
     list(tf = tf[i, ], beta_eta = beta_eta[i, ], beta_delta = beta_delta[i, ],
          lambda_eta = lambda[i, 1], lambda_delta = lambda[i, 2], lambda_e = lambda[i, 3],
          gamma = gamma[i, ], coef = coef[i, ], nugget = fit$priors$nugget, additive = additive,
-         phi = phi[i, 1])
+         phi = phi[i, 1], lambda_shift = lambda_shift[i, 1])
   })
   structure(draws, index = idx)
 }

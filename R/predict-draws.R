@@ -20,7 +20,8 @@ predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE, types = c(
   }
   y <- eta + delta
   if (noise) {
-    y <- y + noise_matrix(pars, noise_weights(data, newdata), noise_rows(fit, newdata))
+    y <- y + noise_matrix(pars, noise_weights(data, newdata), noise_rows(fit, newdata),
+                          months = noise_months(fit, newdata), known = joint$shift)
   }
   s <- data$scaling
   list(y = unscale_y(y, s), eta = unscale_y(eta, s), delta = unscale_y_spread(delta, s),
@@ -28,25 +29,33 @@ predict_draws <- function(fit, newdata, ndraws = NULL, noise = FALSE, types = c(
 }
 
 # The AR(1) segments of the rows of `x` for a fit with AR(1) noise (NULL
-# for white noise): from `times`, else x's period column, else the field
+# for white noise), and their months for a fit with a shift per month
+# (NULL without): from `times`, else x's period column, else the field
 # rows' when x is the field rows in order.
 noise_rows <- function(fit, x, times = NULL, call = rlang::caller_env()) {
-  if (!is_ar1(fit$settings)) {
-    return(NULL)
-  }
+  if (is_ar1(fit$settings)) rows_layout(fit, x, times, noise_segments, fit_segments, call)
+}
+
+noise_months <- function(fit, x, times = NULL, call = rlang::caller_env()) {
+  if (has_shifts(fit$settings)) rows_layout(fit, x, times, period_months, fit_shifts, call)
+}
+
+# `from_times` of the rows' times (`times`, else x's period column), or the
+# fit's own `of_fit` when x is its field rows in order.
+rows_layout <- function(fit, x, times, from_times, of_fit, call) {
   data <- fit$data
   period <- data$names$period
   times <- times %||% if (!is.null(period)) x[[period]]
   if (!is.null(times)) {
-    return(noise_segments(times))
+    return(from_times(times))
   }
   same <- nrow(x) == data$n && all(value_keys(x[data$names$x]) == value_keys(data$field[data$names$x]))
   if (!same) {
-    abort_bayesbem(c("Noise of a fit with AR(1) noise needs the times of the rows.",
+    abort_bayesbem(c("Noise of a fit with AR(1) noise or a shift per month needs the times of the rows.",
                      i = "Give {.arg newdata} the column {.field {period %||% \"time\"}}, or leave out the noise."),
                    "columns", call = call)
   }
-  fit_segments(fit)
+  of_fit(fit)
 }
 
 # Draws (rows) by new rows (columns) of eta and delta, scaled, from the

@@ -131,7 +131,8 @@ check_fit_simulator <- function(fit, simulator, call) {
 # The discrepancy at the scenario's inputs, one draw per row of `simulated`
 # (physical units): for each posterior draw, delta given the data and
 # eta = the simulator's output there (delta_given_eta()), plus the
-# parametric terms of extend().
+# parametric terms of extend(); and (`shift`, additive fits with a shift
+# per month) the training months' shifts drawn with it, standardised.
 scenario_delta <- function(fit, inputs, simulated, draws) {
   data <- fit$data
   x <- withCallingHandlers(
@@ -142,16 +143,17 @@ scenario_delta <- function(fit, inputs, simulated, draws) {
                     "extrapolation")
       invokeRestart("muffleWarning")
     })
-  delta <- if (is_additive(fit)) {
-    additive_joint(fit, inputs, draws, types = "delta", x_new = x)$delta
+  joint <- if (is_additive(fit)) {
+    additive_joint(fit, inputs, draws, types = "delta", x_new = x)
   } else {
-    gp_delta_given_eta(fit, x, scale_y(simulated, data$scaling), draws)
+    list(delta = gp_delta_given_eta(fit, x, scale_y(simulated, data$scaling), draws))
   }
+  delta <- joint$delta
   if (length(data$covariates) > 0L) {
     gamma <- do.call(rbind, lapply(draws, `[[`, "gamma"))
     delta <- delta + gamma %*% t(scale_covariates(data, inputs))
   }
-  unscale_y_spread(delta, data$scaling)
+  list(delta = unscale_y_spread(delta, data$scaling), shift = joint$shift)
 }
 
 # delta at scaled inputs x given the simulator's outputs s there (draws by
@@ -185,8 +187,10 @@ delta_given_eta <- function(cond, s) {
 
 # Observation noise N(0, w_i / lambda_e) of each draw (rows) at each period
 # of a table of inputs (columns), physical units; AR(1) over the periods'
-# `times` for a fit with AR(1) noise.
-noise_draws <- function(fit, draws, x, times = NULL) {
+# `times` for a fit with AR(1) noise; with a shift per month, the months'
+# shifts (the training months' from `known`, additive_joint()'s `shift`).
+noise_draws <- function(fit, draws, x, times = NULL, known = NULL) {
   fit$data$scaling$y_scale *
-    noise_matrix(draws, noise_weights(fit$data, x), noise_rows(fit, x, times))
+    noise_matrix(draws, noise_weights(fit$data, x), noise_rows(fit, x, times),
+                 months = noise_months(fit, x, times), known = known)
 }

@@ -76,7 +76,7 @@ savings <- function(fit, baseline, retrofit, ndraws = 40,
   base <- runs$simulated[[1]]
   new <- runs$simulated[[2]]
   if (discrepancy != "none") {
-    delta <- scenario_delta(fit, inputs, base, runs$draws)
+    delta <- scenario_delta(fit, inputs, base, runs$draws)$delta
     new <- new + if (discrepancy == "same") delta else delta * (new / base)
     base <- base + delta
   }

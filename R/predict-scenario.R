@@ -84,15 +84,16 @@ predict_scenario <- function(fit, scenario, ndraws = 40,
   inputs <- scenario_inputs(fit, scenario, covariates)
   runs <- scenario_runs(fit, scenarios, ndraws, cache_dir)
   simulated <- runs$simulated[[1]]
-  delta <- if (discrepancy == "none") {
-    0 * simulated
-  } else {
-    calibrated <- runs$simulated[[length(scenarios)]]
-    delta <- scenario_delta(fit, inputs, calibrated, runs$draws)
-    if (discrepancy == "proportional") delta * simulated / calibrated else delta
+  given <- if (discrepancy != "none") {
+    scenario_delta(fit, inputs, runs$simulated[[length(scenarios)]], runs$draws)
   }
+  delta <- switch(discrepancy, none = 0 * simulated, same = given$delta,
+                  proportional = given$delta * simulated / runs$simulated[[length(scenarios)]])
   y <- simulated + delta
-  if (noise) y <- y + noise_draws(fit, runs$draws, scenario$simulator$x, scenario$simulator$periods$start)
+  if (noise) {
+    y <- y + noise_draws(fit, runs$draws, scenario$simulator$x, scenario$simulator$periods$start,
+                         known = given$shift)
+  }
   structure(list(y = y, simulated = simulated, delta = delta, inputs = scenario$simulator$x,
                  draw = runs$index, scenario = scenario, discrepancy = discrepancy,
                  noise = noise),

@@ -40,6 +40,11 @@
 #'   the emulator's and the discrepancy's correlation parameters.
 #' @param lambda_eta,lambda_delta,lambda_e Shape and rate `c(shape, rate)` of
 #'   the Gamma priors on the emulator, discrepancy and noise precisions.
+#' @param lambda_shift Shape and rate of the Gamma prior on the precision of
+#'   the months' shifts in the noise ([calibrate()]'s `noise_shift`), on
+#'   the standardised scale: the default `c(1, 0.01)`, an exponential prior
+#'   of mean 100 (a shift's sd about 0.1 of the runs' sd), leaves the
+#'   training months' shifts to set it.
 #' @param gamma_sd Standard deviation of the normal(0, sd) prior on the
 #'   coefficients of parametric discrepancy terms (see [extend()]), on the
 #'   standardised output scale per range of the covariate (its largest
@@ -69,7 +74,7 @@
 #' koh_priors(tf = list(equipment_power_density = prior_normal(21.9, 0.2)))
 koh_priors <- function(tf = list(), set = c("paper", "scaled"), rho_eta = c(1, 0.3), rho_delta = c(1, 0.3),
                        lambda_eta = c(10, 10), lambda_delta = c(10, 0.3),
-                       lambda_e = c(10, 0.03), gamma_sd = 1,
+                       lambda_e = c(10, 0.03), lambda_shift = c(1, 0.01), gamma_sd = 1,
                        emulator_mean = c("linear", "constant", "zero"), mean_sd = 3,
                        nugget = 1e-6) {
   if (!is.list(tf) || (length(tf) > 0L && (is.null(names(tf)) || any(names(tf) == ""))) ||
@@ -79,7 +84,7 @@ koh_priors <- function(tf = list(), set = c("paper", "scaled"), rho_eta = c(1, 0
                    "prior")
   }
   hyper <- list(rho_eta = rho_eta, rho_delta = rho_delta, lambda_eta = lambda_eta,
-                lambda_delta = lambda_delta, lambda_e = lambda_e)
+                lambda_delta = lambda_delta, lambda_e = lambda_e, lambda_shift = lambda_shift)
   for (nm in names(hyper)) {
     v <- hyper[[nm]]
     if (!is.numeric(v) || length(v) != 2L || !all(is.finite(v)) || any(v <= 0)) {
@@ -189,9 +194,16 @@ print.bayesbem_priors <- function(x, ...) {
             "* tf: {tf}",
             "* rho_eta ~ Beta({x$rho_eta[1]}, {x$rho_eta[2]}), rho_delta ~ Beta({x$rho_delta[1]}, {x$rho_delta[2]})",
             "* lambda_eta ~ Gamma({x$lambda_eta[1]}, {x$lambda_eta[2]}{if (prior_set_of(x) == \"scaled\") \" v\" else \"\"}), lambda_delta ~ Gamma({x$lambda_delta[1]}, {x$lambda_delta[2]}), lambda_e ~ Gamma({x$lambda_e[1]}, {x$lambda_e[2]})",
+            "* lambda_shift ~ Gamma({shift_prior(x)[1]}, {shift_prior(x)[2]}) (with a shift per month)",
             "* emulator mean: {emulator_mean_label(x)}",
             if (prior_set_of(x) == "scaled") "* v: the runs' variance about the least-squares emulator mean")
   invisible(x)
+}
+
+# The prior of the months' shifts' precision (priors made before it
+# existed: the default).
+shift_prior <- function(priors) {
+  priors$lambda_shift %||% eval(formals(koh_priors)$lambda_shift)
 }
 
 # The emulator mean of a set of priors, in words (fits made before it

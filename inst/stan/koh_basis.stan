@@ -90,17 +90,24 @@ functions {
   }
 
   /* Where output k's block of the Gram matrices starts (row and column):
-   * its first component, after the m p + 1 + n_h other columns of each
-   * earlier output (R's hsgp_stan_data()). */
-  int gram_start(vector pc_output, int k, int m, int p, int n_h) {
-    return output_start(pc_output, k) + (k - 1) * (m * p + 1 + n_h);
+   * its first component, after the m p + n_shift + 1 + n_h other columns of
+   * each earlier output (R's hsgp_stan_data()). */
+  int gram_start(vector pc_output, int k, int m, int p, int n_shift, int n_h) {
+    return output_start(pc_output, k) + (k - 1) * (m * p + n_shift + 1 + n_h);
   }
 
-  /* The cells of each output's U'U (U = [B_k, Phi_k]): (pc_k + m p)^2 summed. */
-  int lowrank_cells(vector pc_output, int K, int m, int p) {
+  /* The log variance of each of output k's n_shift month shifts, 1 / lambda_shift[k]
+   * (none without shifts). */
+  vector shift_log_variance(vector lambda_shift, int k, int n_shift) {
+    if (n_shift == 0) return rep_vector(0, 0);
+    return rep_vector(-log(lambda_shift[k]), n_shift);
+  }
+
+  /* The cells of each output's U'U (U = [B_k, Phi_k, M_k]): (pc_k + m p + n_shift)^2 summed. */
+  int lowrank_cells(vector pc_output, int K, int m, int p, int n_shift) {
     int cells = 0;
     for (k in 1:K) {
-      int nu = output_size(pc_output, k) + m * p;
+      int nu = output_size(pc_output, k) + m * p + n_shift;
       cells += nu * nu;
     }
     return cells;
@@ -130,12 +137,18 @@ data {
   // hsgp = 1: the discrepancy as an additive Hilbert-space approximate
   // Gaussian process (R/fit-hsgp.R), m basis functions per input at
   // frequencies omega; the likelihood then reads each output's Gram matrix
-  // of Z_k = [B_k, Phi_k, y_k - mu_f_k, h_k] (block k of gram, from row and
-  // column (first component of k) + (k - 1) (m p + 1 + n_h)), never the rows
+  // of Z_k = [B_k, Phi_k, M_k, y_k - mu_f_k, h_k] (block k of gram, from row
+  // and column (first component of k) + (k - 1) (m p + n_shift + 1 + n_h)),
+  // never the rows. M_k: with a shift per month (n_shift > 0), the rows'
+  // indicators of the n_shift calendar months, each month's shift
+  // N(0, 1 / lambda_shift[k]) a part of output k's noise (R/data-noise.R)
   int<lower=0, upper=1> hsgp;
   int<lower=0> m;
   vector<lower=0>[m] omega;
-  int<lower=0> n_z;                      // hsgp * (pc + K (m p + 1 + n_h))
+  int<lower=0> n_shift;
+  real<lower=0> lambda_shift_shape;
+  real<lower=0> lambda_shift_rate;
+  int<lower=0> n_z;                      // hsgp * (pc + K (m p + n_shift + 1 + n_h))
   matrix[n_z, n_z] gram;
   // ar = 1 (with hsgp): the truncated components and the noise AR(1) over
   // consecutive rows, coefficient phi[k] (R/data-noise.R): gram_lag holds
@@ -150,7 +163,8 @@ data {
   // the identity, or the Laplace approximation at a mode so that the
   // sampler's first, unit metric fits); u is the parameters' unconstrained
   // values in this order: tf_u / tf_multiplier (q), logit rho_delta (p K),
-  // log lambda_delta (K), log lambda_e (K), gamma (n_h), logit((phi + 1) / 2) (ar K)
+  // log lambda_delta (K), log lambda_e (K), gamma (n_h), logit((phi + 1) / 2) (ar K),
+  // log lambda_shift (K if n_shift > 0)
   int<lower=1> n_u;
   vector[n_u] u_offset;
   matrix[n_u, n_u] u_scale;
@@ -160,13 +174,14 @@ transformed data {
   // vec(U_k'(S + S')U_k) of each output k in turn (rows of the output's
   // cells, lowrank_cells()): U_k'R^-1 U_k is then one product of this data
   // with three scalars of phi, a single node of the autodiff graph
-  int cells = ar * lowrank_cells(pc_output, K, m, p);
+  int shifts = n_shift > 0;
+  int cells = ar * lowrank_cells(pc_output, K, m, p, n_shift);
   matrix[cells, 3] gram_uu;
   {
     int at_cell = 0;
     for (k in 1:K * ar) {
-      int nu = output_size(pc_output, k) + m * p;
-      int at = gram_start(pc_output, k, m, p, n_h);
+      int nu = output_size(pc_output, k) + m * p + n_shift;
+      int at = gram_start(pc_output, k, m, p, n_shift, n_h);
       gram_uu[(at_cell + 1):(at_cell + nu * nu), 1] = to_vector(block(gram, at, at, nu, nu));
       gram_uu[(at_cell + 1):(at_cell + nu * nu), 2] = to_vector(block(gram_end, at, at, nu, nu));
       gram_uu[(at_cell + 1):(at_cell + nu * nu), 3] = to_vector(block(gram_lag, at, at, nu, nu));
@@ -185,8 +200,9 @@ transformed parameters {
   vector[p * K] rho_delta = inv_logit(segment(u, q + 1, p * K));
   vector[K] lambda_delta = exp(segment(u, q + p * K + 1, K)); // each output's discrepancy precision
   vector[K] lambda_e = exp(segment(u, q + p * K + K + 1, K)); // each output's noise precision
-  vector[n_h] gamma = head(tail(u, n_h + ar * K), n_h);       // the discrepancy terms' coefficients
-  vector[ar * K] phi = 2 * inv_logit(tail(u, ar * K)) - 1;    // each output's AR(1) coefficient
+  vector[n_h] gamma = head(tail(u, n_h + (ar + shifts) * K), n_h); // the discrepancy terms' coefficients
+  vector[ar * K] phi = 2 * inv_logit(head(tail(u, (ar + shifts) * K), ar * K)) - 1; // AR(1)
+  vector[shifts * K] lambda_shift = exp(tail(u, shifts * K)); // each output's month-shift precision
   vector[q] tf = linear_box_lp(tf_u, tf_edge);
   vector[p * K] beta_delta = -4 * log(rho_delta);
 }
@@ -195,27 +211,29 @@ model {
   vector[2 * pc] wv = basis_components(tf, tc, w_coef, w_beta, w_s2, w_nug, w_alpha, w_Ki);
   // the change of variables from u (phi's prior is uniform on (-1, 1))
   target += logit_jacobian(segment(u, q + 1, p * K)) + sum(segment(u, q + p * K + 1, 2 * K))
-            + logit_jacobian(tail(u, ar * K));
+            + logit_jacobian(head(tail(u, (ar + shifts) * K), ar * K)) + sum(tail(u, shifts * K));
   // priors of the calibration parameters, the discrepancy and the noise
 #include /include/koh_stage2_priors.stan
+  target += gamma_lpdf(lambda_shift | lambda_shift_shape, lambda_shift_rate);
   for (k in 1:K) {
     int s = output_start(output, k);
     int len = output_size(output, k);
     int c = output_start(pc_output, k);
     int pc_k = output_size(pc_output, k);
     if (hsgp) {
-      // r = Z_k a, a = (-w, 0, 1, -gamma), errors N(0, d R): r'R^-1 r = a' G a and
+      // r = Z_k a, a = (-w, 0, 0, 1, -gamma), errors N(0, d R): r'R^-1 r = a' G a and
       // U'R^-1 r = (G a)[1:nu], G = Z_k' R^-1 Z_k; R = I, or with AR(1) errors
       // (1 - phi^2) R^-1 = (1 + phi^2) I - phi^2 E - phi (S + S') (tridiagonal
       // within segments) and log|R| = (rows - segments) log(1 - phi^2)
-      int nu = pc_k + m * p;
+      int nu = pc_k + m * p + n_shift;
       int nz = nu + 1 + n_h;
-      int at = gram_start(pc_output, k, m, p, n_h);
-      vector[nz] a = append_row(append_row(-segment(wv, c, pc_k), rep_vector(0, m * p)),
+      int at = gram_start(pc_output, k, m, p, n_shift, n_h);
+      vector[nz] a = append_row(append_row(-segment(wv, c, pc_k), rep_vector(0, m * p + n_shift)),
                                 append_row(rep_vector(1, 1), -gamma));
-      vector[nu] log_c = append_row(log(segment(wv, pc + c, pc_k)),
-                                    hsgp_log_spectral(omega, segment(beta_delta, (k - 1) * p + 1, p),
-                                                      lambda_delta[k]));
+      vector[nu] log_c = append_row(append_row(log(segment(wv, pc + c, pc_k)),
+                                               hsgp_log_spectral(omega, segment(beta_delta, (k - 1) * p + 1, p),
+                                                                 lambda_delta[k])),
+                                    shift_log_variance(lambda_shift, k, n_shift));
       real d_k = s2r[k] + noise_weight[s] / lambda_e[k];
       if (ar) {
         // G a from the data blocks times a; U'R^-1 U / d from gram_uu's columns

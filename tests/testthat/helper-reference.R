@@ -151,7 +151,7 @@ unconstrain <- function(model, pars) {
 # logit of (phi + 1) / 2), which is taken out here.
 basis_log_density <- function(model, sd, pars) {
   change <- sum(log(pars$rho_delta * (1 - pars$rho_delta))) + sum(log(pars$lambda_delta)) +
-    sum(log(pars$lambda_e)) + sum(log((1 - pars$phi^2) / 4))
+    sum(log(pars$lambda_e)) + sum(log((1 - pars$phi^2) / 4)) + sum(log(as.numeric(pars$lambda_shift)))
   rstan::log_prob(model, bayesbem:::basis_z(pars, sd), adjust_transform = FALSE) - change
 }
 
@@ -262,7 +262,7 @@ random_outputs_data <- function(n = 7, runs = 6, extra = 1) {
 # discrepancy's covariance of two rows of inputs, by default the product
 # squared-exponential kernel. `noise_cor`: the correlation of the truncated
 # components and the noise between rows (by default none).
-reference_basis <- function(sd, basis, pars, kernel = NULL, noise_cor = diag(sd$n)) {
+reference_basis <- function(sd, basis, pars, kernel = NULL, noise_cor = diag(sd$n), extra_cov = 0) {
   if (is.null(kernel)) kernel <- function(a, b, beta, lambda) exp(-sum(beta * (a - b)^2)) / lambda
   tc <- basis$tc
   mt <- nrow(tc)
@@ -289,6 +289,7 @@ reference_basis <- function(sd, basis, pars, kernel = NULL, noise_cor = diag(sd$
         noise_cor[i, j] * (basis$s2r + sd$noise_weight[i] / pars$lambda_e)
     }
   }
+  cov <- cov + extra_cov
   mean <- basis$mu + drop(basis$B %*% comp[1, ])
   r <- chol(cov)
   z <- sd$y - mean
@@ -305,10 +306,11 @@ reference_basis <- function(sd, basis, pars, kernel = NULL, noise_cor = diag(sd$
 # precisions lambda_delta and lambda_e and koh_basis.stan's AR(1) phi
 # (none without AR(1) noise) are vectors, one element per output.
 stage2_pars <- function(pars) {
-  pars <- pars[intersect(c("tf", "tf_u", "rho_delta", "lambda_delta", "lambda_e", "gamma", "phi"),
-                         names(pars))]
+  pars <- pars[intersect(c("tf", "tf_u", "rho_delta", "lambda_delta", "lambda_e", "gamma", "phi",
+                           "lambda_shift"), names(pars))]
   pars$phi <- pars$phi %||% numeric(0)
-  for (par in c("lambda_delta", "lambda_e", "phi")) pars[[par]] <- as.array(pars[[par]])
+  pars$lambda_shift <- pars$lambda_shift %||% numeric(0)
+  for (par in c("lambda_delta", "lambda_e", "phi", "lambda_shift")) pars[[par]] <- as.array(pars[[par]])
   pars
 }
 

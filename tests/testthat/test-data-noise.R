@@ -115,3 +115,34 @@ test_that("the dense noise covariance carries the AR(1) correlation", {
   expect_equal(bayesbem:::noise_cov(g, list(lambda_e = 4, phi = 0.6), extra = 0.1),
                reference_ar1_cor(0.6, g$segments) * outer(sqrt(v), sqrt(v)))
 })
+
+test_that("months are read in the times' own zone", {
+  utc <- as.POSIXct(c("2019-09-30 23:30", "2019-10-01 00:30"), tz = "UTC")
+  expect_equal(bayesbem:::period_months(utc), c("2019-09", "2019-10"))
+  attr(utc, "tzone") <- "Europe/London"
+  expect_equal(bayesbem:::period_months(utc), c("2019-10", "2019-10"))
+  expect_equal(bayesbem:::period_months(as.Date(c("2013-01-31", "2013-02-01"))),
+               c("2013-01", "2013-02"))
+  m <- bayesbem:::shift_columns(c("b", "a", "b"))
+  expect_equal(colnames(m), c("a", "b"))
+  expect_equal(unname(m), cbind(c(0, 1, 0), c(1, 0, 1)))
+})
+
+test_that("month shifts: the training months' given, new months' from the prior, one per month", {
+  withr::local_seed(5)
+  draws <- lapply(1:4000, function(i) list(lambda_shift = 25))
+  known <- matrix(rep(c(0.3, -0.1), each = 4000), 4000, dimnames = list(NULL, c("2019-01", "2019-02")))
+  labels <- c("2019-02", "2019-10", "2019-10", "2019-11", "2019-01")
+  l <- bayesbem:::shift_matrix(draws, labels, known)
+  expect_equal(l[, 1], known[, "2019-02"], ignore_attr = TRUE)
+  expect_equal(l[, 5], known[, "2019-01"], ignore_attr = TRUE)
+  # a new month's periods share its shift; months are independent, sd 1 / 5
+  expect_equal(l[, 2], l[, 3])
+  expect_equal(stats::sd(l[, 2]), 0.2, tolerance = 0.05)
+  expect_lt(abs(stats::cor(l[, 2], l[, 4])), 0.06)
+  # noise adds them to the white noise
+  e <- bayesbem:::noise_matrix(lapply(draws, c, lambda_e = 100), rep(1, 5), months = labels,
+                               known = known)
+  expect_equal(stats::sd(e[, 2]), sqrt(0.04 + 0.01), tolerance = 0.05)
+  expect_equal(stats::cov(e[, 2], e[, 3]), 0.04, tolerance = 0.1)
+})

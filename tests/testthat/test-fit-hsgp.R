@@ -79,6 +79,46 @@ test_that("stage 2 with AR(1) noise has the log density of its dense model", {
   }
 })
 
+test_that("stage 2 with a shift per month has the log density of its dense model", {
+  skip_on_cran()
+  withr::local_seed(25)
+  case <- ar1_basis_case()
+  d <- case$data
+  # three months over the nine rows, one of them a single row
+  months <- rep(c("2013-07", "2013-08", "2013-09"), c(4, 4, 1))
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(koh_priors(), d$p, d$q))),
+                   basis = case$basis)
+  design <- bayesbem:::hsgp_design(m = 6, boundary = 3)
+  same_month <- outer(months, months, "==")
+  kernel <- reference_hsgp_kernel(6, 3)
+  for (ar in c(FALSE, TRUE)) {
+    segments <- if (ar) bayesbem:::output_segments(d)
+    sd <- bayesbem:::basis_stan_data(d, koh_priors(), emulator, design, segments, list(months))
+    expect_equal(sd$n_shift, 3L)
+    # Z = [B, Phi, M, r, h]: the month columns' Gram block counts each month's rows
+    lev <- ncol(case$basis$B) + 6 * d$p + 1:3
+    expect_equal(unname(diag(sd$gram)[lev]), c(4, 4, 1))
+    model <- koh_model_for(sd, "koh_basis")
+    for (i in 1:2) {
+      pars <- list(tf = as.array(stats::runif(d$q, 0.05, 0.95)),
+                   rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
+                   lambda_delta = stats::rgamma(1, 10, 0.3), lambda_e = stats::rgamma(1, 10, 0.03),
+                   gamma = numeric(0), phi = if (ar) stats::runif(1, -0.5, 0.9),
+                   lambda_shift = stats::rgamma(1, 2, 0.05))
+      noise_cor <- if (ar) reference_ar1_cor(pars$phi, case$segments) else diag(sd$n)
+      ref <- reference_basis(sd, case$basis, pars, kernel, noise_cor,
+                             extra_cov = same_month / pars$lambda_shift)
+      u <- bayesbem:::linear_box_inverse(pars$tf)
+      stan_pars <- stage2_pars(c(list(tf_u = as.array(u)), pars[names(pars) != "tf"]))
+      jacobian <- sum(log(stats::plogis(u / sd$tf_edge) - stats::plogis((u - 1) / sd$tf_edge)))
+      prior <- stats::dgamma(pars$lambda_shift, 1, 0.01, log = TRUE)
+      expect_equal(basis_log_density(model, sd, stan_pars), ref$lp + jacobian + prior,
+                   tolerance = 1e-8, label = paste("AR(1)", ar))
+    }
+  }
+})
+
 test_that("the additive discrepancy needs the basis emulator and periods of one length", {
   d <- random_grid_data(n = 9, runs = 8, extra = 2)
   expect_identical(bayesbem:::choose_discrepancy_kernel("additive", "basis", d), "additive")

@@ -403,3 +403,37 @@ test_that("the spec resolves the noise model once, with each output's segments",
                                    spec$segments)
   expect_equal(c(sd$ar, sd$n_seg), c(1, 2))
 })
+
+test_that("the spec resolves a shift per month for meter data over three months or more", {
+  withr::local_seed(1)
+  d <- random_grid_data(n = 40, runs = 8, extra = 2)
+  # a row every other day from 20 June to 6 September: four months
+  d$field$time <- as.Date("2013-06-20") + 0:39 * 2
+  d$names$period <- "time"
+  spec <- bayesbem:::calibration_spec_of(d, NULL, discrepancy_kernel = "additive")
+  expect_true(bayesbem:::has_shifts(spec))
+  expect_equal(spec$shifts, list(format(d$field$time, "%Y-%m")))
+  # two months: no shift unless asked
+  two <- d
+  two$field$time <- as.Date("2013-07-01") + 0:39
+  expect_false(bayesbem:::has_shifts(bayesbem:::calibration_spec_of(two, NULL, discrepancy_kernel = "additive")))
+  asked <- bayesbem:::calibration_spec_of(two, NULL, discrepancy_kernel = "additive",
+                                          noise_shift = "month")
+  expect_equal(unique(asked$shifts[[1]]), c("2013-07", "2013-08"))
+  none <- bayesbem:::calibration_spec_of(d, NULL, discrepancy_kernel = "additive", noise_shift = "none")
+  expect_false(bayesbem:::has_shifts(none))
+  expect_null(none$shifts)
+  # the product kernel has none, and refuses one
+  expect_false(bayesbem:::has_shifts(bayesbem:::calibration_spec_of(d, NULL, discrepancy_kernel = "product")))
+  expect_error(bayesbem:::calibration_spec_of(d, NULL, discrepancy_kernel = "product",
+                                              noise_shift = "month"),
+               class = "bayesbem_error_argument")
+  # the Stan data: one column per month
+  stage1 <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                 b = numeric(sum(bayesbem:::mean_selection(koh_priors(), d$p, d$q))),
+                 basis = bayesbem:::basis_emulator(d, variance = 0.99))
+  sd <- bayesbem:::basis_stan_data(d, koh_priors(), stage1, bayesbem:::hsgp_design(),
+                                   spec$segments, spec$shifts)
+  expect_equal(sd$n_shift, 4L)
+  expect_equal(bayesbem:::basis_u_sizes(sd)[["lambda_shift"]], 1)
+})

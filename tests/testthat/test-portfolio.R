@@ -130,4 +130,6 @@ test_that("a portfolio's table is checked before anything runs", {
   writeLines("", blocker)
   expect_error(calibrate_portfolio(buildings, file.path(blocker, "results")),
                "could not be created", class = "bayesbem_error_argument")
+  # what the portfolio sets itself is not calibrate()'s to take
+  expect_snapshot(calibrate_portfolio(buildings, dir, progress = TRUE), error = TRUE)
 })
