@@ -83,11 +83,17 @@ noise_segments <- function(times) {
   cumsum(c(TRUE, !(step > 0 & abs(gaps - step) <= 1e-6 * step)))
 }
 
+# A data set's field times (its period column), NULL without one.
+data_times <- function(data) {
+  period <- data$names$period
+  if (!is.null(period)) data$field[[period]]
+}
+
 # The segments of a data set's field rows from its period column, NULL
 # without one.
 data_segments <- function(data) {
-  period <- data$names$period
-  if (!is.null(period)) noise_segments(data$field[[period]])
+  times <- data_times(data)
+  if (!is.null(times)) noise_segments(times)
 }
 
 # The segments of a data set's field rows, from its period column (an
@@ -99,13 +105,13 @@ field_segments <- function(data, call = rlang::caller_env()) {
 # A data set's field times (its period column), which `what` needs: an
 # error without them.
 field_times <- function(data, what, call = rlang::caller_env()) {
-  period <- data$names$period
-  if (is.null(period)) {
+  times <- data_times(data)
+  if (is.null(times)) {
     abort_bayesbem(c("{what} needs the times of the field rows.",
                      i = "Give the field a {.cls POSIXct} or {.cls Date} column (as {.fn field_hours} does: {.field time}), or name it with {.arg period} in {.fn koh_data}."),
                    "argument", call = call)
   }
-  data$field[[period]]
+  times
 }
 
 # The products a likelihood with AR(1) noise needs of the rows of z, given

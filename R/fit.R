@@ -640,11 +640,11 @@ choose_noise_correlation <- function(correlation, kernel, data, call = rlang::ca
 choose_noise_shift <- function(shift, kernel, data, call = rlang::caller_env()) {
   if (shift == "auto") {
     monthly <- function(d) {
-      period <- d$names$period
-      if (is.null(period)) {
+      times <- data_times(d)
+      if (is.null(times)) {
         return(FALSE)
       }
-      months <- period_months(d$field[[period]])
+      months <- period_months(times)
       length(unique(months)) >= 3L && length(months) > 2 * length(unique(months))
     }
     month <- kernel == "additive" && all(vapply(output_data(data), monthly, logical(1)))

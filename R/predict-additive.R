@@ -34,8 +34,8 @@ additive_geometry <- function(fit) {
   design <- fit$settings$hsgp
   r0 <- data$y - basis$mu
   h <- discrepancy_design(data)
-  months <- fit_shifts(fit)
-  months <- if (!is.null(months)) shift_columns(months)
+  shifts <- fit_shifts(fit)
+  months <- if (!is.null(shifts)) shift_columns(shifts)
   z <- hsgp_columns(basis$B, field_grid_inputs(data), r0, h, design, months)
   u <- z[, seq_len(ncol(z) - 1L - ncol(h)), drop = FALSE]
   segments <- fit_segments(fit)
