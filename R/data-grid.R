@@ -156,6 +156,11 @@ row_groups <- function(x) {
   match(key, unique(key))
 }
 
+# The one test of a resolved likelihood structure (choose_structure()):
+# TRUE for "grid", given the string or what holds it as `$structure` (a
+# calibration spec, a fit's settings, a geometry).
+is_grid <- function(x) identical(if (is.list(x)) x$structure else x, "grid")
+
 # Which likelihood to use: "grid" when the design is a grid and nothing
 # rules it out, else "dense"; `structure` forces either.
 choose_structure <- function(data, structure, predict_at = NULL, call = rlang::caller_env()) {

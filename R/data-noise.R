@@ -4,6 +4,10 @@
 # so 1 / lambda_e is the noise variance of a field period of average length.
 # Periods of one length (calendar months, days, hours) have no input
 # `days`, and every w_i is 1: the paper's model.
+#
+# What the noise model reads of the data: each row's weight w_i, the
+# AR(1) segments of consecutive rows and the rows' calendar months; its
+# covariance and draws are in R/gp-noise.R.
 
 # The mean length of the field's periods, the reference of every weight
 # (NULL when the rows carry no `days`), kept in the data's scaling so that
@@ -24,54 +28,9 @@ period_weights <- function(x, reference = noise_reference(x)) {
   if (is.null(reference)) rep(1, NROW(x)) else x[, "days"] / reference
 }
 
-# Each field row's noise variance for one draw `par` of a fit whose
-# geometry `g` (gp_geometry()) holds the rows' weights.
-noise_var <- function(g, par) g$noise / par$lambda_e
-
-# The field rows' noise covariance for one draw: diag(noise_var()), or with
-# the draw's AR(1) coefficient phi, scaled by its correlation within the
-# rows' segments (`g$segments`); `extra`: a variance per row that shares
-# it (the basis emulator's truncated components).
-noise_cov <- function(g, par, extra = 0) {
-  v <- extra + noise_var(g, par)
-  phi <- par$phi %||% 0
-  if (phi == 0) {
-    return(diag(v, length(v)))
-  }
-  ar1_cor(phi, g$segments) * outer(sqrt(v), sqrt(v))
-}
-
-# AR(1)'s correlation matrix over rows in segments: phi^|i - j| within one.
-ar1_cor <- function(phi, segments) {
-  i <- seq_along(segments)
-  phi^abs(outer(i, i, "-")) * outer(segments, segments, "==")
-}
-
-# Observation noise N(0, w_i / lambda_e), standardised: draws (rows) by
-# periods of weights `w` (columns); with a draw's AR(1) coefficient `phi`,
-# correlated within `segments` (noise_segments() of the periods). `extra`:
-# a variance per period that shares it (as noise_cov()'s). With the
-# periods' `months` (a shift per month), each month's shift added
-# (shift_matrix(), the training months' from `known`).
-noise_matrix <- function(draws, w, segments = NULL, extra = 0, months = NULL, known = NULL) {
-  lambda_e <- vapply(draws, `[[`, numeric(1), "lambda_e")
-  phi <- vapply(draws, function(par) par$phi %||% 0, numeric(1))
-  z <- if (all(phi == 0)) {
-    matrix(stats::rnorm(length(draws) * length(w)), length(draws))
-  } else {
-    t(vapply(phi, ar1_series, numeric(length(w)), segments = segments))
-  }
-  e <- z * sqrt(extra + outer(1 / lambda_e, w))
-  if (is.null(months)) e else e + shift_matrix(draws, months, known)
-}
-
-# AR(1) noise (calibrate(noise_correlation = "ar1")): the errors of
-# consecutive periods correlate, e_i = phi e_(i-1) + sqrt(1 - phi^2) nu_i,
-# of stationary variance w / lambda_e (Box & Jenkins; its correlation
-# matrix R has phi^|i - j| within a run of consecutive periods, its
-# inverse is tridiagonal). Consecutive: rows in order whose times are one
-# step apart, the step the median difference; a gap or a step back starts
-# a new segment.
+# AR(1) noise (R/gp-noise.R) correlates consecutive periods: rows in order
+# whose times are one step apart, the step the median difference; a gap or
+# a step back starts a new segment.
 
 # The segment of each row (1, 2, ...) from the rows' times (Date or POSIXct).
 noise_segments <- function(times) {
@@ -114,49 +73,8 @@ field_times <- function(data, what, call = rlang::caller_env()) {
   times
 }
 
-# The products a likelihood with AR(1) noise needs of the rows of z, given
-# their segments: `lag` = z'(S + S')z, S the lag-1 shift within segments,
-# `end` = z'Ez over the segments' first and last rows (a one-row segment's
-# twice) and the number of `segments`; then (1 - phi^2) z'R^-1 z = (1 +
-# phi^2) z'z - phi^2 end - phi lag.
-ar1_grams <- function(z, segments) {
-  n <- nrow(z)
-  lo <- which(segments[-1] == segments[-n])
-  cross <- crossprod(z[lo, , drop = FALSE], z[lo + 1L, , drop = FALSE])
-  ends <- c(which(!duplicated(segments)), which(!duplicated(segments, fromLast = TRUE)))
-  list(lag = cross + t(cross), end = crossprod(z[ends, , drop = FALSE]),
-       segments = length(unique(segments)))
-}
-
-# z'R^-1 z from z'z (`gram`) and ar1_grams() `ar`, for coefficient phi.
-ar1_weighted <- function(gram, ar, phi) {
-  if (phi == 0) {
-    return(gram)
-  }
-  ((1 + phi^2) * gram - phi^2 * ar$end - phi * ar$lag) / (1 - phi^2)
-}
-
-# A unit-variance AR(1) series over rows in segments, restarted
-# (stationary) at each segment's first row.
-ar1_series <- function(phi, segments) {
-  nu <- stats::rnorm(length(segments))
-  if (phi == 0) {
-    return(nu)
-  }
-  first <- !duplicated(segments)
-  nu[!first] <- sqrt(1 - phi^2) * nu[!first]
-  unlist(lapply(split(nu, segments), function(v) {
-    as.numeric(stats::filter(v, phi, method = "recursive"))
-  }), use.names = FALSE)
-}
-
-# A shift per calendar month (calibrate(noise_shift = "month")): the
-# errors of output k add l_m(i) to the AR(1) (or white) noise of each row i
-# of month m(i), l_m ~ N(0, 1 / lambda_shift) independent between months,
-# so that a month's total carries the month's shift (a meter's use that
-# moves month by month beyond what the inputs explain). The shifts are
-# U's further columns in the additive likelihood (koh_basis.stan), the
-# rows' indicators of their months: no cost in the rows.
+# A shift per calendar month (R/gp-noise.R) is shared by the rows of a
+# month, in the time zone of the rows' times.
 
 # The calendar month ("2019-10") of each time (Date, or POSIXct in its own
 # time zone).
@@ -171,26 +89,4 @@ period_months <- function(times) {
 # without one).
 field_months <- function(data, call = rlang::caller_env()) {
   period_months(field_times(data, "A shift per month", call = call))
-}
-
-# The rows' indicators (rows by `months`) of their months `labels`.
-shift_columns <- function(labels, months = sort(unique(labels))) {
-  m <- outer(labels, months, "==") + 0
-  colnames(m) <- months
-  m
-}
-
-# Each draw's (rows) month shift at each period of months `labels`
-# (columns), standardised: a month among the columns of `known` (draws by
-# months, the fit's training months given the data) takes its draw there,
-# any other month a draw from N(0, 1 / lambda_shift), one per month and
-# draw, shared by the month's periods.
-shift_matrix <- function(draws, labels, known = NULL) {
-  months <- unique(labels)
-  sd <- 1 / sqrt(vapply(draws, `[[`, numeric(1), "lambda_shift"))
-  shifts <- vapply(months, function(m) {
-    if (m %in% colnames(known)) known[, m] else stats::rnorm(length(sd), 0, sd)
-  }, numeric(length(sd)))
-  shifts <- matrix(shifts, nrow = length(sd), dimnames = list(NULL, months))
-  shifts[, labels, drop = FALSE]
 }

@@ -80,7 +80,7 @@ emulator_inflation <- function(g, pars) {
     rg <- residual_geometry(g, par)
     dg <- draw_geometry(rg, par)
     kt <- jittered_cor(rg$tt, dg$bt, par$nugget)
-    if (rg$structure == "grid") {
+    if (is_grid(rg)) {
       r_x <- chol(jittered_cor(rg$xx, dg$bx, par$nugget) / par$lambda_eta)
       z2 <- vapply(seq_len(ncol(rg$E)), function(a) {
         w <- solve(kt[-a, -a], kt[-a, a])

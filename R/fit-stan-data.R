@@ -31,7 +31,7 @@ koh_stan_data <- function(data, priors, x_pred = NULL, structure = "dense",
   prior_data <- koh_prior_data(data, priors, call = call)
   field <- list(n = data$n, p = data$p, q = data$q, y = data$y,
                 noise_weight = as.array(noise_weights(data)))
-  if (structure == "grid") {
+  if (is_grid(structure)) {
     grid <- data$grid
     return(koh_program_data("grid", c(
       field, list(mt = grid$mt, tc = grid$design, xf = field_grid_inputs(data),

@@ -350,7 +350,7 @@ calibration_spec <- function(field, sim, priors, chains, iter, warmup, cores, co
   check_count(cores)
   lengths <- sampling_lengths(iter, warmup, defaults)
   lapack <- use_lapack()
-  inform_blas(largest_output(data), lapack, modular || structure == "grid")
+  inform_blas(largest_output(data), lapack, modular || is_grid(structure))
   check_fit_size(fit_size(data, structure, modular, lengths$iter, discrepancy_kernel),
                  min(cores, chains))
   check_prior_covers(data)
@@ -438,13 +438,13 @@ default_sampling <- function(modular, n, emulator = "separable", kernel = "produ
 # (see the @param). TRUE needs a grid.
 choose_modular <- function(modular, data, structure, call = rlang::caller_env()) {
   if (identical(modular, "auto")) {
-    return(structure == "grid")
+    return(is_grid(structure))
   }
   if (!rlang::is_bool(modular)) {
     abort_bayesbem("{.arg modular} must be {.code TRUE}, {.code FALSE} or {.val auto}, not {describe_value(modular)}.",
                    "argument", call = call)
   }
-  if (modular && structure != "grid") {
+  if (modular && !is_grid(structure)) {
     abort_bayesbem(c("The modular fit needs a grid design: every simulation run at every field input.",
                      i = "Use {.code modular = FALSE}, or run the simulator at the field inputs (see {.fn simulate_design})."),
                    "argument", call = call)
@@ -475,7 +475,7 @@ fit_cost <- list(seconds_per_cubed_row = c(dense = 1.2e-9, grid = 6.7e-10, stage
 # Taking the dense likelihood because the runs are not a grid is slow
 # above a few hundred rows: say why, what it costs, how to avoid it.
 inform_dense <- function(data, structure, asked) {
-  if (structure != "dense" || asked == "dense") {
+  if (is_grid(structure) || asked == "dense") {
     return(invisible())
   }
   rows <- data$n + data$m
@@ -508,7 +508,7 @@ fit_size <- function(data, structure, modular, iter, discrepancy_kernel = "produ
       fit_cost$seconds_per_cubed_row[["additive"]] * sum(rows^3)
     return(list(bytes = bytes, hours = seconds / 3600, rows = max(rows)))
   }
-  if (structure == "dense") {
+  if (!is_grid(structure)) {
     rows <- data$n + data$m
     bytes <- (64 + 8 * (data$p + data$q + 4)) * rows^2
   } else {
@@ -517,7 +517,7 @@ fit_size <- function(data, structure, modular, iter, discrepancy_kernel = "produ
     # field block: data, kernel, covariance and its inverse; joint grid: Kx too
     bytes <- sum(8 * 6 * n^2) + if (modular) 0 else sum((64 + 8 * (data$p + 2)) * n_x^2)
   }
-  path <- if (structure == "dense") "dense" else if (modular) "stage2" else "grid"
+  path <- if (!is_grid(structure)) "dense" else if (modular) "stage2" else "grid"
   seconds <- fit_cost$gradients_per_iteration * iter * fit_cost$seconds_per_cubed_row[[path]] *
     sum(rows^3)
   list(bytes = bytes, hours = seconds / 3600, rows = max(rows))
@@ -577,7 +577,7 @@ available_memory <- function() {
 # cheap (a year of daily data: the size the reliability benchmark and the
 # real bills measure it at); "additive" above, where that factor grows as
 # n^3, when the fit can take it. "additive" (the Hilbert-space
-# approximation, R/fit-hsgp.R) needs the basis emulator and periods of one
+# approximation, R/gp-hsgp.R) needs the basis emulator and periods of one
 # length within each output (its noise a multiple of the identity).
 choose_discrepancy_kernel <- function(kernel, emulator, data, call = rlang::caller_env()) {
   unequal <- vapply(output_data(data), function(d) diff(range(noise_weights(d))) > 1e-12,
@@ -735,7 +735,7 @@ sampling_arguments <- function() {
 # where they are closest to singular.
 abort_sampling_failure <- function(data, nugget, structure, messages, call = rlang::caller_env()) {
   factors <- list("the correlation of the field inputs (K_x)" = data$xf)
-  if (structure == "grid") {
+  if (is_grid(structure)) {
     factors[["the correlation of the simulation runs (K_t)"]] <- data$grid$design
   } else {
     factors[["the correlation of the simulation rows"]] <- cbind(data$xc, data$tc)

@@ -1,4 +1,4 @@
-# Conditionals of a fit with the additive discrepancy (R/fit-hsgp.R) at a
+# Conditionals of a fit with the additive discrepancy (R/gp-hsgp.R) at a
 # cost linear in the rows, as koh_basis.stan's likelihood: with the basis
 # emulator the field outputs are
 #   y - mu - h' gamma = U a + e,  U = [B, Phi, M],  a = (w, b, l),

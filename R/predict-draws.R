@@ -1,6 +1,8 @@
-# The draws predictions are made of: y, eta and delta at new inputs jointly
-# per posterior draw, the inputs they are made at and the measured outputs
-# they are compared with.
+# The draws predictions are made of: the fit's parameters per posterior
+# draw, y, eta and delta at new inputs jointly per draw (on the
+# conditionals of R/gp-conditioning.R), the field given the runs at a
+# draw, the inputs they are made at and the measured outputs they are
+# compared with.
 
 # Draws (rows) by points (columns) of y, eta and delta in physical units,
 # sampled jointly per posterior draw so that y = eta + delta (+ noise); and
@@ -134,4 +136,70 @@ evaluation_sets <- function(fit, newdata, obs, call = rlang::caller_env()) {
   sets <- list(training = prediction_set(fit, NULL, NULL))
   if (!is.null(newdata)) sets[["held-out"]] <- prediction_set(fit, newdata, obs, call = call)
   sets
+}
+
+# Posterior draws of the model's parameters on the Stan scale, one list per draw
+# (evenly spaced ones with `ndraws`; their indices in `attr(, "index")`).
+draw_parameters <- function(fit, ndraws = NULL) {
+  get <- function(par) stan_draws(fit, par)
+  tf <- get("tf")
+  beta_eta <- get("beta_eta")
+  beta_delta <- get("beta_delta")
+  lambda <- cbind(get("lambda_eta"), get("lambda_delta"), get("lambda_e"))
+  gamma <- if (length(fit$data$covariates) > 0L) get("gamma") else matrix(0, nrow(tf), 0)
+  select <- mean_selection(fit$priors, fit$data$p, fit$data$q)
+  coef <- if (ncol(select) > 0L) get("b") %*% t(select) else matrix(0, nrow(tf), nrow(select))
+  idx <- draw_subset(nrow(tf), ndraws)
+  additive <- is_additive(fit)
+  phi <- if (is_ar1(fit$settings)) get("phi") else matrix(0, nrow(tf))
+  lambda_shift <- if (has_shifts(fit$settings)) get("lambda_shift") else matrix(Inf, nrow(tf))
+  draws <- lapply(idx, function(i) {
+    list(tf = tf[i, ], beta_eta = beta_eta[i, ], beta_delta = beta_delta[i, ],
+         lambda_eta = lambda[i, 1], lambda_delta = lambda[i, 2], lambda_e = lambda[i, 3],
+         gamma = gamma[i, ], coef = coef[i, ], nugget = fit$priors$nugget, additive = additive,
+         phi = phi[i, 1], lambda_shift = lambda_shift[i, 1])
+  })
+  structure(draws, index = idx)
+}
+
+# Evenly spaced draws, so that results do not depend on the random seed.
+draw_subset <- function(total, ndraws) {
+  if (is.null(ndraws) || ndraws >= total) {
+    return(seq_len(total))
+  }
+  check_count(ndraws)
+  unique(round(seq(1, total, length.out = ndraws)))
+}
+
+# The field outputs given the simulation runs alone, at the draw's tf:
+# field_given_runs() with the emulator mean h(x, tf)' b added back, so that
+# `mean` is the emulator's mean at the field rows; under the emulator stage
+# 2 calibrated with (basis_field() for a basis fit).
+runs_field <- function(g, par) {
+  if (!is.null(g$basis)) {
+    return(basis_field(g, par))
+  }
+  fm <- field_given_runs(residual_geometry(g, par), par)
+  fm$mean <- fm$mean + emulator_mean(g$xf, par$tf, par$coef)
+  fm
+}
+
+# The emulator's mean at the field rows given the simulation runs alone, at
+# the parameters `tf` (scaled).
+runs_mean <- function(g, par, tf) {
+  par$tf <- tf
+  runs_field(g, par)$mean
+}
+
+# The simulator's sensitivity to each parameter at the field rows, d eta /
+# d tf (field rows by parameters): central differences of runs_mean(), step
+# h on the scaled scale, kept inside [0, 1].
+runs_sensitivity <- function(g, par, h = 0.01) {
+  vapply(seq_along(par$tf), function(k) {
+    up <- par$tf
+    down <- par$tf
+    up[k] <- min(up[k] + h, 1)
+    down[k] <- max(down[k] - h, 0)
+    (runs_mean(g, par, up) - runs_mean(g, par, down)) / (up[k] - down[k])
+  }, numeric(g$n))
 }

@@ -313,7 +313,7 @@ bem_hourly_simulator <- function(path, parameters, building, output, by) {
 # The inputs of a simulator by week, day or hour: the periods' mean
 # weather, by day also the weekday, by hour the weekday and the hour of the
 # day type (0-23 on weekdays, 24-47 on weekends) in place of the hour: it
-# lets a discrepancy additive over the inputs (fit-hsgp.R) hold an effect
+# lets a discrepancy additive over the inputs (gp-hsgp.R) hold an effect
 # of the hour on weekends alone (a weekend plug load), which a sum of a
 # weekday and an hour effect cannot (the parameters took it up), and the
 # hour beside it would only add cost

@@ -1,5 +1,5 @@
 # Benchmark (issue 55): the additive Hilbert-space discrepancy
-# (calibrate(discrepancy_kernel = "additive"), R/fit-hsgp.R) against the
+# (calibrate(discrepancy_kernel = "additive"), R/gp-hsgp.R) against the
 # paper's product kernel on the same data, where the product kernel is
 # still cheap: the problems of bench-reliability.R at 365 days
 # (bayesbem:::synthetic_problem(): the embedded model on the 2013 daily
@@ -10,14 +10,15 @@
 # means in Monte Carlo standard errors of the difference, the truth inside
 # the 90 % intervals, the held-out days' 90 % predictive intervals (mean
 # width, coverage of the measured use), max R-hat, divergences, the
-# sampling time and min bulk ESS per second.
+# sampling time and min bulk ESS per second. BENCH_DAYS (default 365): the
+# days of the daily problems, evenly spaced over the year.
 # With "hours": the same comparison on hourly data, the paper's dense
 # likelihood against the additive one at sizes the dense one finishes: the
 # embedded hourly model on the 2013 weather, `hours` hours from 1 June
 # (cooling and the working week in them), the three parameters
 # of bench-year-hours.R at mid-range, white noise (sd 0.5 kWh), 30 runs.
 # Usage, from the package root, with bayesbem installed:
-#   Rscript bench/bench-discrepancy-kernel.R [problems, e.g. 1-3] [chains] [iter]
+#   [BENCH_DAYS=n] Rscript bench/bench-discrepancy-kernel.R [problems, e.g. 1-3] [chains] [iter]
 #   Rscript bench/bench-discrepancy-kernel.R hours [hours, e.g. 168,336] [chains] [iter]
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE, width = 200)
@@ -27,6 +28,7 @@ if (hourly) args <- args[-1]
 span <- as.integer(strsplit(if (length(args) > 0) args[1] else "1-3", if (hourly) "," else "-")[[1]])
 chains <- if (length(args) > 1) as.integer(args[2]) else 4L
 iter <- if (length(args) > 2) as.integer(args[3])
+days <- as.integer(Sys.getenv("BENCH_DAYS", "365"))
 
 # An hourly problem of bench-year-hours.R's kind: `hours` hours from 1 June.
 hourly_problem <- function(hours) {
@@ -75,7 +77,7 @@ one_fit <- function(problem, kernel, k) {
 
 rows <- list()
 for (k in if (hourly) span else seq(span[1], span[length(span)])) {
-  problem <- if (hourly) hourly_problem(k) else bayesbem:::synthetic_problem(365, 30, k)
+  problem <- if (hourly) hourly_problem(k) else bayesbem:::synthetic_problem(days, 30, k)
   for (kernel in c("product", "additive")) {
     row <- one_fit(problem, kernel, k)
     print(row, digits = 3, row.names = FALSE)

@@ -9,7 +9,7 @@
 # With "hourly" (issue 55): stage 2 with the basis emulator
 # (koh_basis.stan) as the rows grow to a year of hours, the discrepancy's
 # product kernel (its n x n factor, up to `max_product` rows) beside the
-# additive Hilbert-space one (R/fit-hsgp.R), the latter with white and with
+# additive Hilbert-space one (R/gp-hsgp.R), the latter with white and with
 # AR(1) noise: the embedded hourly model on the 2013 weather (inputs temp,
 # rh, solar, weekday, daytype_hour), the first n hours, 30 runs (LHS of
 # equipment power density, infiltration and the cooling setpoint), and the

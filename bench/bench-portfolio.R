@@ -12,12 +12,27 @@
 #     (multisession): wall time, buildings per hour, scaling efficiency
 #     (T1 / (2 T2)), the buildings' jobs' own seconds summed, and the wall
 #     time beyond that sum over the workers.
+#   real: N real buildings of the Cambridge archive (bench/archive.R), each
+#     its 2019 electricity as monthly bills: the hourly readings through
+#     field_hours() (what stands for missing left out), each month with at
+#     least 95 % of its hours present summed and scaled to all its hours;
+#     the embedded monthly model over Bedford's weather of a university
+#     building (bem_building_facts(type = "university"), bem_parameters(type
+#     = "university")) of four floors, uncooled, a ventilation-only fan, its
+#     floor area the year's use over CIBSE TM46's 80 kWh/m2; 20 runs over
+#     equipment, lighting and fan efficiency made in each job; the savings
+#     of a fifth less plug load. On 2 workers: the table by building, the
+#     total, wall time and buildings per hour.
 # Usage, from the package root, with bayesbem installed:
 #   Rscript bench/bench-portfolio.R coverage [P] [B]    (default 20 10; BENCH_WORKERS,
 #                                                       default 2; BENCH_FROM, the first
 #                                                       portfolio, default 1: a stopped
 #                                                       run goes on where it stopped)
 #   Rscript bench/bench-portfolio.R timing [N]          (default 20)
+#   BENCH_ARCHIVE=<the archive's git directory> Rscript bench/bench-portfolio.R real [N]
+#                                                       (default 10: the first N of
+#                                                       buildings 0, 1, 2, ... with a
+#                                                       2019 electricity meter)
 suppressPackageStartupMessages(library(bayesbem))
 options(bayesbem.progress = FALSE)
 args <- commandArgs(trailingOnly = TRUE)
@@ -27,6 +42,37 @@ pars <- sim$parameters[sim$parameters$parameter %in% c("equipment_power_density"
                                                        "infiltration_per_exterior_area"), ]
 runs <- simulate_design(sim, design_lhs(pars, 10, seed = 1))
 retrofit <- function(s) scenario(s, scale = c(equipment_power_density = 0.7))
+
+# Building b's 2019 electricity as monthly bills on the embedded monthly
+# model (see "real" above), or NULL when the archive has no such meter or
+# fewer than 6 months are covered.
+real_building <- function(b, hourly, epw) {
+  readings <- archive_meter(b, "electricity", "2019")
+  if (is.null(readings)) return(NULL)
+  time <- as.POSIXct(readings[[1]], tz = "UTC")
+  field <- tryCatch(suppressWarnings(suppressMessages(
+    field_hours(hourly, time, readings[[2]], sufficiency = 0))), error = function(e) NULL)
+  if (is.null(field)) return(NULL)
+  cover <- data_sufficiency(field$time, as.POSIXct(c("2019-01-01", "2019-12-31 23:00"), tz = "UTC"))
+  months <- cover$month[cover$share >= 0.95]
+  if (length(months) < 6L) return(NULL)
+  month_of <- format(field$time, "%Y-%m", tz = "UTC")
+  use <- vapply(months, function(m) sum(field$y[month_of == m]), numeric(1)) /
+    cover$share[match(months, cover$month)]
+  start <- as.Date(paste0(months, "-01"))
+  end <- as.Date(vapply(start, function(d) format(seq(d, by = "month", length.out = 2)[2] - 1),
+                        character(1)))
+  area <- sum(use) * 12 / length(months) / 80
+  building <- bem_building_facts(area, floors = 4, type = "university", cooling = FALSE,
+                                 fan_flow = 1e-3 * area)
+  sim <- bem_simulator(epw, parameters = bem_parameters(type = "university"),
+                       building = building, periods = data.frame(start = start, end = end))
+  vary <- sim$parameters[sim$parameters$parameter %in% c("equipment_power_density",
+                                                         "lighting_power_density",
+                                                         "fan_total_efficiency"), ]
+  list(field = data.frame(y = unname(use), sim$x), simulator = sim,
+       design = design_lhs(vary, 20, seed = 1), months = length(months), area = area)
+}
 
 # B buildings of portfolio p with their true savings.
 portfolio <- function(p, b) {
@@ -49,7 +95,7 @@ portfolio <- function(p, b) {
   list(buildings = buildings, true_total = sum(true_savings))
 }
 
-run <- function(buildings, workers, dir) {
+run <- function(buildings, workers, dir, retrofit) {
   # plan() reads its argument unevaluated: give it a variable
   strategy <- if (workers == 1L) future::sequential else
     future::tweak(future::multisession, workers = workers)
@@ -68,7 +114,8 @@ if (what == "coverage") {
   rows <- lapply(seq(first, n_portfolios), function(p) {
     problem <- portfolio(p, n_buildings)
     workers <- as.integer(Sys.getenv("BENCH_WORKERS", "2"))
-    result <- run(problem$buildings, workers, file.path(tempdir(), sprintf("portfolio-%02d", p)))
+    result <- run(problem$buildings, workers, file.path(tempdir(), sprintf("portfolio-%02d", p)),
+                  retrofit)
     total <- summary(result$portfolio)$total
     half_g14 <- total$fsu_guideline14 * abs(total$savings)
     row <- data.frame(portfolio = p, buildings = total$buildings, truth = problem$true_total,
@@ -86,11 +133,35 @@ if (what == "coverage") {
   print(table, row.names = FALSE, digits = 4)
   cat(sprintf("\n90 %% interval of the total holds the truth in %d of %d portfolios; Guideline 14's FSU in %d of %d\n",
               sum(table$covered), nrow(table), sum(table$covered_g14), nrow(table)))
+} else if (what == "real") {
+  archive <- Sys.getenv("BENCH_ARCHIVE")
+  if (!nzchar(archive)) stop("set BENCH_ARCHIVE to the archive's folder", call. = FALSE)
+  source(file.path("bench", "archive.R"))
+  n <- if (length(args) > 1L) as.integer(args[2]) else 10L
+  epw <- archive_epw("2019")
+  hourly <- bem_simulator(epw, by = "hour")
+  found <- list()
+  for (b in setdiff(as.character(0:120), held_for_acceptance)) {
+    if (length(found) == n) break
+    one <- real_building(b, hourly, epw)
+    if (!is.null(one)) found[[b]] <- one
+  }
+  buildings <- data.frame(id = paste0("b", names(found)))
+  for (col in c("field", "simulator", "design")) buildings[[col]] <- lapply(found, `[[`, col)
+  result <- run(buildings, 2L, file.path(tempdir(), "real"),
+                function(s) scenario(s, scale = c(equipment_power_density = 0.8)))
+  table <- summary(result$portfolio)$buildings
+  table$months <- vapply(found, `[[`, integer(1), "months")
+  table$floor_area <- round(vapply(found, `[[`, numeric(1), "area"))
+  print(table[setdiff(names(table), "error")], row.names = FALSE, digits = 3)
+  print(summary(result$portfolio)$total, row.names = FALSE, digits = 4)
+  cat(sprintf("\n%d buildings on 2 workers: %.0f s, %.0f buildings an hour\n", nrow(buildings),
+              result$seconds, 3600 * nrow(buildings) / result$seconds))
 } else {
   n <- if (length(args) > 1L) as.integer(args[2]) else 20L
   problem <- portfolio(1L, n)
   runs <- lapply(1:2, function(w) {
-    run(problem$buildings, w, file.path(tempdir(), sprintf("timing-%d", w)))
+    run(problem$buildings, w, file.path(tempdir(), sprintf("timing-%d", w)), retrofit)
   })
   times <- vapply(runs, `[[`, numeric(1), "seconds")
   # each building's own seconds (its job, in its worker): a sum that grows

@@ -28,34 +28,13 @@ args <- commandArgs(trailingOnly = TRUE)
 buildings <- if (length(args) > 0L) strsplit(args[1], ",")[[1]] else
   c("0", "13", "22", "25", "27", "33", "35", "40")
 year <- if (length(args) > 1L) args[2] else "2019"
-held_for_acceptance <- c("19", "57", "111")
+archive <- Sys.getenv("BENCH_ARCHIVE")
+if (!nzchar(archive)) stop("set BENCH_ARCHIVE to the archive's folder", call. = FALSE)
+source(file.path("bench", "archive.R"))
 if (any(buildings %in% held_for_acceptance)) {
   stop("buildings 19, 57 and 111 are kept for acceptance", call. = FALSE)
 }
-archive <- Sys.getenv("BENCH_ARCHIVE")
-if (!nzchar(archive)) stop("set BENCH_ARCHIVE to the archive's folder", call. = FALSE)
-
-# A file of the archive, from a checkout or from its git directory.
-archive_csv <- function(path) {
-  if (file.exists(file.path(archive, path))) {
-    return(utils::read.csv(file.path(archive, path), check.names = FALSE))
-  }
-  text <- system2("git", c("--git-dir", shQuote(archive), "show", shQuote(paste0("HEAD:", path))),
-                  stdout = TRUE, stderr = FALSE)
-  if (length(text) == 0L) return(NULL)
-  utils::read.csv(text = text, check.names = FALSE)
-}
-
-# the station stamps each hour by its end: the year's hours run into the
-# next year's file
-station <- do.call(rbind, lapply(as.integer(year) + 0:1, function(y) {
-  archive_csv(sprintf("aux_data/MetOffice Weather Data/processed_data/bedford/%d.csv", y))
-}))
-names(station) <- c("time", "temp", "rh", "ghi")
-weather <- suppressMessages(read_weather(station, latitude = 52.227, longitude = -0.465,
-                                         elevation = 85, time_zone = 0, name = "Bedford",
-                                         days = as.Date(paste0(year, c("-01-01", "-12-31")))))
-epw <- write_epw(weather, file.path(tempdir(), sprintf("bedford-%s.epw", year)))
+epw <- archive_epw(year)
 sim <- bem_simulator(epw, by = "hour")
 zone <- "Europe/London"
 held_out <- function(time) as.integer(format(time, "%m", tz = zone)) >= 10L
@@ -102,8 +81,7 @@ calibrated <- list()
 rows <- list()
 for (b in buildings) {
   for (meter in c("electricity", "gas")) {
-    readings <- archive_csv(sprintf("building_data/processed_data/UCam_Building_b%s/%s/%s.csv",
-                                    b, meter, year))
+    readings <- archive_meter(b, meter, year)
     if (is.null(readings)) next
     time <- as.POSIXct(readings[[1]], tz = "UTC")
     rules <- if (meter == "gas") meter_rules(zero_hours = Inf, zero_days = FALSE) else meter_rules()

@@ -31,8 +31,16 @@ Rscript -e 'cat("install-deps: R uses the BLAS at", extSoftVersion()[["BLAS"]], 
 # From CRAN (R's configured repository) only what Debian lacks: sensitivity
 # (Morris screening) and the few of its dependencies Debian does not ship
 # (dtwclust, a hard dependency of sensitivity, is most of the time: make
-# compiles its C++ on every core; bench/results/install-times.md).
-MAKEFLAGS="${MAKEFLAGS:--j$(nproc)}" Rscript -e '
+# compiles its C++ on every core). bayesbem calls only sensitivity's R code
+# (morris()), so their C and C++ are compiled without optimisation or
+# debugging symbols, and quietly (R_MAKEVARS_USER: these builds alone;
+# bench/results/install-times.md).
+makevars="$(mktemp)"
+trap 'rm -f "$makevars"' EXIT
+for v in CFLAGS CXXFLAGS CXX11FLAGS CXX14FLAGS CXX17FLAGS; do
+  echo "$v = -O0 -g0 -w" >> "$makevars"
+done
+R_MAKEVARS_USER="$makevars" MAKEFLAGS="${MAKEFLAGS:--j$(nproc)}" Rscript -e '
 cran_only <- c("sensitivity")
 missing <- cran_only[!vapply(cran_only, requireNamespace, logical(1), quietly = TRUE)]
 if (length(missing) > 0L) install.packages(missing, Ncpus = parallel::detectCores(), quiet = TRUE)

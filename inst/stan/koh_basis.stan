@@ -50,7 +50,7 @@ functions {
   }
 
   /* The log variance of each basis function's coefficient in the additive
-   * Hilbert-space approximate discrepancy (R/fit-hsgp.R; Riutort-Mayol,
+   * Hilbert-space approximate discrepancy (R/gp-hsgp.R; Riutort-Mayol,
    * Burkner, Andersen, Solin & Vehtari 2023, Stat Comput 33, Eq 1):
    * input k's m functions, at frequencies omega, have the spectral density
    * of exp(-b d^2) / (p lambda), b = sqrt(beta[k]^2 + 0.08^2) (length
@@ -135,13 +135,13 @@ data {
   matrix[mt, pc] w_alpha;                // Kj^-1 (w_j - H b_j)
   matrix[mt * pc, mt] w_Ki;              // Kj^-1, stacked
   // hsgp = 1: the discrepancy as an additive Hilbert-space approximate
-  // Gaussian process (R/fit-hsgp.R), m basis functions per input at
+  // Gaussian process (R/gp-hsgp.R), m basis functions per input at
   // frequencies omega; the likelihood then reads each output's Gram matrix
   // of Z_k = [B_k, Phi_k, M_k, y_k - mu_f_k, h_k] (block k of gram, from row
   // and column (first component of k) + (k - 1) (m p + n_shift + 1 + n_h)),
   // never the rows. M_k: with a shift per month (n_shift > 0), the rows'
   // indicators of the n_shift calendar months, each month's shift
-  // N(0, 1 / lambda_shift[k]) a part of output k's noise (R/data-noise.R)
+  // N(0, 1 / lambda_shift[k]) a part of output k's noise (R/gp-noise.R)
   int<lower=0, upper=1> hsgp;
   int<lower=0> m;
   vector<lower=0>[m] omega;
@@ -151,7 +151,7 @@ data {
   int<lower=0> n_z;                      // hsgp * (pc + K (m p + n_shift + 1 + n_h))
   matrix[n_z, n_z] gram;
   // ar = 1 (with hsgp): the truncated components and the noise AR(1) over
-  // consecutive rows, coefficient phi[k] (R/data-noise.R): gram_lag holds
+  // consecutive rows, coefficient phi[k] (R/gp-noise.R): gram_lag holds
   // Z_k' (S + S') Z_k, S the lag within segments of consecutive rows,
   // gram_end Z_k' E Z_k, E the segments' first and last rows (a one-row
   // segment's twice), n_seg each output's number of segments

@@ -49,9 +49,10 @@ test_that("the discrepancy choice and the number of draws are one idea each", {
   expect_equal(level[level != 0.9 | is.na(level)], stats::setNames(numeric(0), character(0)))
 })
 
-# The package's R files in CONTRIBUTING's table of the workflow, in order,
-# and the shared ones (its first row); skipped where the tests run without
-# the sources beside them (R CMD check).
+# The package's layers in CONTRIBUTING's table of the workflow, in order:
+# each row's layer (its first column) and its R files, in order; the
+# first row is the shared layer. Skipped where the tests run without the
+# sources beside them (R CMD check).
 workflow_files <- function() {
   contributing <- file.path("..", "..", "CONTRIBUTING.md")
   if (!file.exists(contributing) || !dir.exists(file.path("..", "..", "R"))) {
@@ -63,7 +64,9 @@ workflow_files <- function() {
     m <- regmatches(row, gregexpr("`R/[^`]+\\.R`", row))[[1]]
     gsub("`|R/", "", m)
   })
-  list(order = unlist(files), shared = files[[1]])
+  layers <- sub("^\\| ([a-z]+) \\|.*", "\\1", rows)
+  list(order = unlist(files), shared = files[[1]],
+       layer = stats::setNames(rep(layers, lengths(files)), unlist(files)), layers = layers)
 }
 
 # The functions each R file defines and the names its code uses (free
@@ -87,21 +90,33 @@ file_names <- function(path) {
   list(defined = defined, used = unique(used))
 }
 
-test_that("every R file is in the workflow table and uses only files above it", {
+test_that("every R file is named by its layer and uses only layers above it", {
   flow <- workflow_files()
   files <- basename(list.files(file.path("..", "..", "R"), pattern = "\\.R$"))
   expect_setequal(flow$order, files)
+  # a file's name starts with its layer, but for the shared layer's two
+  # files that rstantools and roxygen name
+  prefix <- sub("^([a-z]+)([-.].*)$", "\\1", flow$order)
+  conventional <- c("stanmodels.R", "bayesbem-package.R")
+  misnamed <- flow$order[prefix != flow$layer[flow$order] & !flow$order %in% conventional]
+  expect_identical(misnamed, character(0))
   names <- lapply(stats::setNames(file.path("..", "..", "R", flow$order), flow$order), file_names)
   owner <- unlist(lapply(flow$order, function(f) {
     stats::setNames(rep(f, length(names[[f]]$defined)), names[[f]]$defined)
   }))
+  rank <- match(flow$layer, flow$layers)
+  names(rank) <- names(flow$layer)
   wrong <- unlist(lapply(flow$order, function(f) {
     used <- intersect(names[[f]]$used, names(owner))
     from <- owner[used]
-    later <- match(from, flow$order) > match(f, flow$order) & !from %in% flow$shared
-    unshared <- f %in% flow$shared & !from %in% flow$shared
-    bad <- from[later | unshared]
-    if (length(bad) > 0L) sprintf("%s uses %s() of %s", f, names(bad), bad)
+    shared <- from %in% flow$shared
+    above <- rank[from] > rank[f] & !shared
+    later <- rank[from] == rank[f] & match(from, flow$order) > match(f, flow$order) & !shared
+    unshared <- f %in% flow$shared & !shared
+    bad <- from[above | later | unshared]
+    if (length(bad) > 0L) {
+      sprintf("%s (%s) uses %s() of %s (%s)", f, flow$layer[f], names(bad), bad, flow$layer[bad])
+    }
   }))
   expect_identical(wrong, NULL)
 })

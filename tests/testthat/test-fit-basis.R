@@ -185,3 +185,98 @@ test_that("a basis fit of daily data converges near the truth", {
   expect_equal(check$table$sd[rows], sqrt(drop(basis$B^2 %*% wv$var) + basis$s2r) * sc$y_scale)
   expect_true(all(is.finite(check$shift$z)))
 })
+
+test_that("stage 2 with the additive discrepancy has the log density of its dense model", {
+  skip_on_cran()
+  withr::local_seed(23)
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  priors <- koh_priors(tf = list(k1 = prior_normal(1.5, 0.2)))
+  basis <- bayesbem:::basis_emulator(d, variance = 0.99)
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))), basis = basis)
+  design <- bayesbem:::hsgp_design(m = 6, boundary = 3)
+  sd <- bayesbem:::basis_stan_data(d, priors, emulator, design)
+  expect_equal(sd$hsgp, 1L)
+  expect_equal(dim(sd$gram), rep(ncol(basis$B) + 6 * d$p + 1 + sd$n_h, 2))
+  model <- koh_model_for(sd, "koh_basis")
+  kernel <- reference_hsgp_kernel(6, 3)
+  for (i in 1:3) {
+    pars <- list(tf = as.array(stats::runif(d$q, 0.05, 0.95)),
+                 rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
+                 lambda_delta = stats::rgamma(1, 10, 0.3), lambda_e = stats::rgamma(1, 10, 0.03),
+                 gamma = as.array(stats::rnorm(sd$n_h)))
+    ref <- reference_basis(sd, basis, pars, kernel)
+    u <- bayesbem:::linear_box_inverse(pars$tf)
+    stan_pars <- stage2_pars(c(list(tf_u = as.array(u)), pars[names(pars) != "tf"]))
+    a <- sd$tf_edge
+    jacobian <- sum(log(stats::plogis(u / a) - stats::plogis((u - 1) / a)))
+    expect_equal(basis_log_density(model, sd, stan_pars), ref$lp + jacobian, tolerance = 1e-8)
+  }
+})
+
+test_that("stage 2 with AR(1) noise has the log density of its dense model", {
+  skip_on_cran()
+  withr::local_seed(24)
+  case <- ar1_basis_case()
+  d <- case$data
+  basis <- case$basis
+  segments <- case$segments
+  sd <- case$sd
+  expect_equal(c(sd$ar, sd$n_seg), c(1, 2))
+  model <- koh_model_for(sd, "koh_basis")
+  kernel <- reference_hsgp_kernel(6, 3)
+  for (phi in c(-0.3, 0.6, 0.97)) {
+    pars <- list(tf = as.array(stats::runif(d$q, 0.05, 0.95)),
+                 rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
+                 lambda_delta = stats::rgamma(1, 10, 0.3), lambda_e = stats::rgamma(1, 10, 0.03),
+                 gamma = numeric(0), phi = phi)
+    ref <- reference_basis(sd, basis, pars, kernel, reference_ar1_cor(phi, segments))
+    u <- bayesbem:::linear_box_inverse(pars$tf)
+    stan_pars <- stage2_pars(c(list(tf_u = as.array(u)), pars[names(pars) != "tf"]))
+    a <- sd$tf_edge
+    jacobian <- sum(log(stats::plogis(u / a) - stats::plogis((u - 1) / a)))
+    # phi's prior is flat on (-1, 1)
+    expect_equal(basis_log_density(model, sd, stan_pars), ref$lp + jacobian,
+                 tolerance = 1e-8, label = paste("phi", phi))
+  }
+})
+
+test_that("stage 2 with a shift per month has the log density of its dense model", {
+  skip_on_cran()
+  withr::local_seed(25)
+  case <- ar1_basis_case()
+  d <- case$data
+  # three months over the nine rows, one of them a single row
+  months <- rep(c("2013-07", "2013-08", "2013-09"), c(4, 4, 1))
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(koh_priors(), d$p, d$q))),
+                   basis = case$basis)
+  design <- bayesbem:::hsgp_design(m = 6, boundary = 3)
+  same_month <- outer(months, months, "==")
+  kernel <- reference_hsgp_kernel(6, 3)
+  for (ar in c(FALSE, TRUE)) {
+    segments <- if (ar) bayesbem:::output_segments(d)
+    sd <- bayesbem:::basis_stan_data(d, koh_priors(), emulator, design, segments, list(months))
+    expect_equal(sd$n_shift, 3L)
+    # Z = [B, Phi, M, r, h]: the month columns' Gram block counts each month's rows
+    lev <- ncol(case$basis$B) + 6 * d$p + 1:3
+    expect_equal(unname(diag(sd$gram)[lev]), c(4, 4, 1))
+    model <- koh_model_for(sd, "koh_basis")
+    for (i in 1:2) {
+      pars <- list(tf = as.array(stats::runif(d$q, 0.05, 0.95)),
+                   rho_delta = as.array(stats::runif(sd$p, 0.3, 0.99)),
+                   lambda_delta = stats::rgamma(1, 10, 0.3), lambda_e = stats::rgamma(1, 10, 0.03),
+                   gamma = numeric(0), phi = if (ar) stats::runif(1, -0.5, 0.9),
+                   lambda_shift = stats::rgamma(1, 2, 0.05))
+      noise_cor <- if (ar) reference_ar1_cor(pars$phi, case$segments) else diag(sd$n)
+      ref <- reference_basis(sd, case$basis, pars, kernel, noise_cor,
+                             extra_cov = same_month / pars$lambda_shift)
+      u <- bayesbem:::linear_box_inverse(pars$tf)
+      stan_pars <- stage2_pars(c(list(tf_u = as.array(u)), pars[names(pars) != "tf"]))
+      jacobian <- sum(log(stats::plogis(u / sd$tf_edge) - stats::plogis((u - 1) / sd$tf_edge)))
+      prior <- stats::dgamma(pars$lambda_shift, 1, 0.01, log = TRUE)
+      expect_equal(basis_log_density(model, sd, stan_pars), ref$lp + jacobian + prior,
+                   tolerance = 1e-8, label = paste("AR(1)", ar))
+    }
+  }
+})

@@ -437,3 +437,43 @@ test_that("the spec resolves a shift per month for meter data over three months 
   expect_equal(sd$n_shift, 4L)
   expect_equal(bayesbem:::basis_u_sizes(sd)[["lambda_shift"]], 1)
 })
+
+test_that("the additive discrepancy needs the basis emulator and periods of one length", {
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  expect_identical(bayesbem:::choose_discrepancy_kernel("additive", "basis", d), "additive")
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", d), "product")
+  # "auto": additive above 400 rows, with the basis emulator and equal periods
+  big <- random_grid_data(n = 401, runs = 3)
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", big), "additive")
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "separable", big), "product")
+  bills <- random_grid_data(n = 401, runs = 3, days = TRUE)
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", bills), "product")
+  expect_error(bayesbem:::choose_discrepancy_kernel("additive", "separable", d),
+               class = "bayesbem_error_argument")
+  periods <- random_grid_data(n = 9, runs = 8, extra = 2, days = TRUE)
+  expect_error(bayesbem:::choose_discrepancy_kernel("additive", "basis", periods),
+               class = "bayesbem_error_argument")
+  expect_snapshot(calibrate(d, emulator = "separable", discrepancy_kernel = "additive"), error = TRUE)
+})
+
+test_that("AR(1) noise needs the additive discrepancy and the rows' times", {
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  choose <- bayesbem:::choose_noise_correlation
+  expect_identical(choose("auto", "additive", d), "none")
+  expect_identical(choose("none", "additive", d), "none")
+  expect_error(choose("ar1", "product", d), class = "bayesbem_error_argument")
+  # the rows' times are read where the spec finds the noise's segments, before sampling
+  expect_error(bayesbem:::output_segments(d), class = "bayesbem_error_argument")
+  expect_snapshot(calibrate(d, emulator = "basis", discrepancy_kernel = "additive",
+                            noise_correlation = "ar1"), error = TRUE)
+  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * 0:8
+  d$names$period <- "time"
+  expect_identical(choose("ar1", "additive", d), "ar1")
+  # "auto": AR(1) where it applies, on consecutive hours with the additive
+  # discrepancy; not with the exact one, nor on rows none of which follow
+  # another
+  expect_identical(choose("auto", "additive", d), "ar1")
+  expect_identical(choose("auto", "product", d), "none")
+  d$field$time <- as.POSIXct("2013-07-01", tz = "UTC") + 3600 * c(0, 2, 5, 9, 14, 20, 27, 35, 44)
+  expect_identical(choose("auto", "additive", d), "none")
+})

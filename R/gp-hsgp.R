@@ -20,7 +20,7 @@
 # The basis functions of each input: `m` frequencies omega_j = pi j / (2
 # L) on [-L, L], L = `boundary` / 2 (the inputs' half-range times
 # `boundary`). m = 40, boundary = 10: every length scale from rho_delta =
-# 0.02 to the floor's within 0.025 of the kernel (test-fit-hsgp.R).
+# 0.02 to the floor's within 0.025 of the kernel (test-gp-hsgp.R).
 hsgp_design <- function(m = 40L, boundary = 10) {
   half_width <- boundary / 2
   list(m = m, boundary = boundary, half_width = half_width,

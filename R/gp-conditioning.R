@@ -1,7 +1,9 @@
 # Gaussian-process conditionals of the KOH model in R, for prediction and
-# diagnosis, on the kernels of R/fit-kernels.R: the joint law of (eta,
-# delta) at new inputs given the data, the field given the runs, and draws
-# of the model's parameters.
+# diagnosis, on the kernels of R/gp-kernels.R and the noise of
+# R/gp-noise.R: for one draw of the parameters, the joint law of (eta,
+# delta) at new inputs given the data, the field given the runs, and
+# leave-one-out densities. What reads a fit (its draws, its basis
+# emulator) is in R/predict-draws.R.
 
 # The geometry a fitted KOH model needs for its data and, optionally, for new
 # (scaled) observable inputs `x_new` at tf: pairs "ff" (field rows), "sf"
@@ -17,7 +19,7 @@ gp_geometry <- function(data, x_new = NULL, structure = "dense", basis = NULL) {
             h = discrepancy_design(data), ff = pair_geometry(data$xf, data$xf),
             xf = data$xf, x_new = x_new, basis = basis, noise = noise_weights(data),
             segments = data_segments(data))
-  if (structure == "grid") {
+  if (is_grid(g)) {
     grid <- data$grid
     g$tc <- grid$design
     g$E <- grid_runs(data)
@@ -37,42 +39,9 @@ gp_geometry <- function(data, x_new = NULL, structure = "dense", basis = NULL) {
   if (!is.null(x_new)) {
     g$sf <- pair_geometry(x_new, data$xf)
     g$ss <- pair_geometry(x_new, x_new)
-    if (structure == "dense") g$sc <- pair_geometry(x_new, data$xc)
+    if (!is_grid(g)) g$sc <- pair_geometry(x_new, data$xc)
   }
   g
-}
-
-# Posterior draws of the model's parameters on the Stan scale, one list per draw
-# (evenly spaced ones with `ndraws`; their indices in `attr(, "index")`).
-draw_parameters <- function(fit, ndraws = NULL) {
-  get <- function(par) stan_draws(fit, par)
-  tf <- get("tf")
-  beta_eta <- get("beta_eta")
-  beta_delta <- get("beta_delta")
-  lambda <- cbind(get("lambda_eta"), get("lambda_delta"), get("lambda_e"))
-  gamma <- if (length(fit$data$covariates) > 0L) get("gamma") else matrix(0, nrow(tf), 0)
-  select <- mean_selection(fit$priors, fit$data$p, fit$data$q)
-  coef <- if (ncol(select) > 0L) get("b") %*% t(select) else matrix(0, nrow(tf), nrow(select))
-  idx <- draw_subset(nrow(tf), ndraws)
-  additive <- is_additive(fit)
-  phi <- if (is_ar1(fit$settings)) get("phi") else matrix(0, nrow(tf))
-  lambda_shift <- if (has_shifts(fit$settings)) get("lambda_shift") else matrix(Inf, nrow(tf))
-  draws <- lapply(idx, function(i) {
-    list(tf = tf[i, ], beta_eta = beta_eta[i, ], beta_delta = beta_delta[i, ],
-         lambda_eta = lambda[i, 1], lambda_delta = lambda[i, 2], lambda_e = lambda[i, 3],
-         gamma = gamma[i, ], coef = coef[i, ], nugget = fit$priors$nugget, additive = additive,
-         phi = phi[i, 1], lambda_shift = lambda_shift[i, 1])
-  })
-  structure(draws, index = idx)
-}
-
-# Evenly spaced draws, so that results do not depend on the random seed.
-draw_subset <- function(total, ndraws) {
-  if (is.null(ndraws) || ndraws >= total) {
-    return(seq_len(total))
-  }
-  check_count(ndraws)
-  unique(round(seq(1, total, length.out = ndraws)))
 }
 
 # A draw's x weights, t weights and correlations k_t(tf, t_a) to the design.
@@ -117,7 +86,7 @@ residual_geometry <- function(g, par) {
     return(g)
   }
   g$y <- g$y - emulator_mean(g$xf, par$tf, par$coef)
-  if (g$structure == "grid") {
+  if (is_grid(g)) {
     g$E <- g$E - grid_mean(g$x_grid, g$tc, par$coef)
   } else {
     g$eta <- g$eta - emulator_mean(g$xc, g$tc, par$coef)
@@ -131,7 +100,7 @@ residual_geometry <- function(g, par) {
 # part of the discrepancy, eta includes the emulator mean.
 koh_conditional <- function(g, par) {
   g <- residual_geometry(g, par)
-  cond <- if (g$structure == "grid") koh_conditional_grid(g, par) else koh_conditional_dense(g, par)
+  cond <- if (is_grid(g)) koh_conditional_grid(g, par) else koh_conditional_dense(g, par)
   eta_rows <- seq_len(nrow(g$ss$eq))
   cond$mean[eta_rows] <- cond$mean[eta_rows] + g$mean_new
   cond
@@ -164,7 +133,7 @@ new_rows_cov <- function(g, dg, par) {
 # diag(noise) / lambda_e, c = 1 + a - s (never forming Sigma_z); otherwise from the
 # blocks of Sigma_z. Also returns the pieces the grid conditional reuses.
 field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
-  if (g$structure == "grid") {
+  if (is_grid(g)) {
     r_t <- chol(jittered_cor(g$tt, dg$bt, par$nugget))
     v <- backsolve(r_t, dg$k0, transpose = TRUE)
     s <- sum(v^2)
@@ -182,39 +151,6 @@ field_given_runs <- function(g, par, dg = draw_geometry(g, par)) {
   a <- backsolve(r_c, t(sigma[f, -f, drop = FALSE]), transpose = TRUE)
   list(mean = drop(crossprod(a, backsolve(r_c, g$eta, transpose = TRUE))),
        cov = sigma[f, f] - crossprod(a))
-}
-
-# The field outputs given the simulation runs alone, at the draw's tf:
-# field_given_runs() with the emulator mean h(x, tf)' b added back, so that
-# `mean` is the emulator's mean at the field rows; under the emulator stage
-# 2 calibrated with (basis_field() for a basis fit).
-runs_field <- function(g, par) {
-  if (!is.null(g$basis)) {
-    return(basis_field(g, par))
-  }
-  fm <- field_given_runs(residual_geometry(g, par), par)
-  fm$mean <- fm$mean + emulator_mean(g$xf, par$tf, par$coef)
-  fm
-}
-
-# The emulator's mean at the field rows given the simulation runs alone, at
-# the parameters `tf` (scaled).
-runs_mean <- function(g, par, tf) {
-  par$tf <- tf
-  runs_field(g, par)$mean
-}
-
-# The simulator's sensitivity to each parameter at the field rows, d eta /
-# d tf (field rows by parameters): central differences of runs_mean(), step
-# h on the scaled scale, kept inside [0, 1].
-runs_sensitivity <- function(g, par, h = 0.01) {
-  vapply(seq_along(par$tf), function(k) {
-    up <- par$tf
-    down <- par$tf
-    up[k] <- min(up[k] + h, 1)
-    down[k] <- max(down[k] - h, 0)
-    (runs_mean(g, par, up) - runs_mean(g, par, down)) / (up[k] - down[k])
-  }, numeric(g$n))
 }
 
 # Grid design, in two steps: given the runs E at the grid inputs X, the

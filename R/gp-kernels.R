@@ -37,7 +37,7 @@ jittered_cor <- function(pair, beta, nugget) {
 }
 
 # Squared-exponential covariance of the discrepancy: a product over the
-# inputs, or with `par$additive` their mean (fit-hsgp.R's kernel),
+# inputs, or with `par$additive` their mean (gp-hsgp.R's kernel),
 #   (p lambda)^-1 sum_k exp(-additive_beta(beta_k) d_k^2).
 delta_cov <- function(pair, par) {
   if (isTRUE(par$additive)) {
@@ -50,7 +50,7 @@ delta_cov <- function(pair, par) {
 # The additive kernel's inverse squared length scales: sqrt(beta^2 +
 # 0.08^2), so that no length scale exceeds that of rho_delta = 0.98 (2.5
 # input ranges, a kernel flat within 8 % over the inputs), the longest its
-# Hilbert-space approximation holds (R/fit-hsgp.R); as koh_basis.stan's
+# Hilbert-space approximation holds (R/gp-hsgp.R); as koh_basis.stan's
 # hsgp_spectral().
 additive_beta <- function(beta, floor = 0.08) sqrt(beta^2 + floor^2)
 
