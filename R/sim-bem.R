@@ -136,12 +136,20 @@ bem_building <- function(...) {
 #' The lighting's mean share in use (`lighting_fraction`) follows the
 #' opening hours (all of it while open, a tenth while closed).
 #'
+#' With `age`, the walls', roof's, floor's and windows' U-values are the
+#' limits of the Building Regulations' edition in force that year
+#' ([bem_envelope_standards()]), where it sets one; `u_wall` and the
+#' others given in `...` take precedence.
+#'
 #' @param floor_area The floor area of all floors (m2).
 #' @param floors The number of floors.
 #' @param roof_area The roof's area (m2); by default the footprint.
 #' @param storey_height The height of a floor (m).
 #' @param type A building type of [bem_building_types()], or `NULL` (the
 #'   default): the case study's schedule.
+#' @param age The year the building was built to the regulations of (e.g.
+#'   `1980`), from 1965, or `NULL` (the default): the case study's
+#'   constructions.
 #' @param ... Further properties of [bem_building()] (e.g. `occupancy`,
 #'   `clock`, `window_fraction`, `u_wall`).
 #' @return Building properties, as [bem_building()]'s.
@@ -152,7 +160,7 @@ bem_building <- function(...) {
 #' bem_building_facts(6000, floors = 4, clock = "Europe/London")[c("wall_area", "roof_area")]
 #' matrix(bem_building_facts(6000, type = "retail")$occupancy, 24)
 bem_building_facts <- function(floor_area, floors = 1L, roof_area = floor_area / floors,
-                               storey_height = 3, type = NULL, ...) {
+                               storey_height = 3, type = NULL, age = NULL, ...) {
   for (arg in c("floor_area", "roof_area", "storey_height")) check_number(get(arg), "argument", positive = TRUE, arg = arg)
   check_count(floors)
   case <- bem_building()
@@ -167,6 +175,7 @@ bem_building_facts <- function(floor_area, floors = 1L, roof_area = floor_area /
     facts$occupancy <- type_occupancy(type)
     facts$lighting_fraction <- type_lighting_share(type)
   }
+  if (!is.null(age)) facts <- utils::modifyList(facts, envelope_of_age(age))
   facts[names(list(...))] <- list(...)
   rlang::inject(bem_building(!!!facts))
 }
