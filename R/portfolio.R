@@ -27,7 +27,8 @@
 #' whether each converged and how many warnings it had.
 #'
 #' @param buildings A data frame, one row per building (or meter): `id`
-#'   (unique names, used for the files), `field` (a list of field tables),
+#'   (unique names, used for the files), `field` (a list of field tables,
+#'   one output each: a building's several meters are rows of their own),
 #'   and either `runs` (a list of run tables) or `simulator` (a list of
 #'   simulators) with `design` (a list of designs, e.g. [design_lhs()]),
 #'   whose runs the job makes. With `retrofit`, `simulator` is needed.
@@ -103,8 +104,8 @@ calibrate_portfolio <- function(buildings, dir, retrofit = NULL, ndraws = 40, se
   read_portfolio(dir, buildings$id)
 }
 
-# The buildings table, checked: unique file-safe ids, a field table each,
-# and runs or a simulator with its design each.
+# The buildings table, checked: unique file-safe ids, a field table of one
+# output each, and runs or a simulator with its design each.
 check_portfolio_table <- function(buildings, retrofit, call = rlang::caller_env()) {
   if (!is.data.frame(buildings) || nrow(buildings) == 0L || !is.list(buildings$field)) {
     abort_bayesbem(c("{.arg buildings} must be a data frame with a row per building and a list column {.field field}, not {describe_value(buildings)}.",
@@ -128,6 +129,12 @@ check_portfolio_table <- function(buildings, retrofit, call = rlang::caller_env(
                    "argument", call = call)
   }
   if (!is.null(buildings$seed)) lapply(buildings$seed, check_count, arg = "seed", call = call)
+  several <- buildings$id[vapply(buildings$field, function(f) "output" %in% names(f), logical(1))]
+  if (length(several) > 0L) {
+    abort_bayesbem(c("A building's {.field field} must hold one output: {.val {several}} {?has/have} an {.field output} column.",
+                     i = "Give each meter as a building (row) of its own; the portfolio's table reports one output's metrics and savings per row."),
+                   "argument", call = call)
+  }
   buildings
 }
 

@@ -132,4 +132,8 @@ test_that("a portfolio's table is checked before anything runs", {
                "could not be created", class = "bayesbem_error_argument")
   # what the portfolio sets itself is not calibrate()'s to take
   expect_snapshot(calibrate_portfolio(buildings, dir, progress = TRUE), error = TRUE)
+  # one output per building: a meter of several is refused, not read in part
+  buildings$field[[2]] <- rbind(cbind(seb_field, output = "elec"), cbind(seb_field, output = "gas"))
+  expect_snapshot(calibrate_portfolio(buildings, dir), error = TRUE)
+  expect_identical(list.files(dir, pattern = "rds$"), character(0))
 })
