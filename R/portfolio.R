@@ -129,9 +129,11 @@ check_portfolio_table <- function(buildings, retrofit, call = rlang::caller_env(
                    "argument", call = call)
   }
   if (!is.null(buildings$seed)) lapply(buildings$seed, check_count, arg = "seed", call = call)
-  several <- buildings$id[vapply(buildings$field, function(f) "output" %in% names(f), logical(1))]
+  several <- buildings$id[vapply(buildings$field, function(f) {
+    inherits(f, "bayesbem_outputs") || "output" %in% names(f)
+  }, logical(1))]
   if (length(several) > 0L) {
-    abort_bayesbem(c("A building's {.field field} must hold one output: {.val {several}} {?has/have} an {.field output} column.",
+    abort_bayesbem(c("A building's {.field field} must hold one output: {.val {several}} {?holds/hold} several (an {.field output} column).",
                      i = "Give each meter as a building (row) of its own; the portfolio's table reports one output's metrics and savings per row."),
                    "argument", call = call)
   }

@@ -17,11 +17,16 @@ archive_csv <- function(path) {
   utils::read.csv(text = text, check.names = FALSE)
 }
 
-# A building's meter readings of a year (time in UTC, value), NULL without.
-archive_meter <- function(b, meter, year) {
-  if (b %in% held_for_acceptance) {
+# Stops when any of `buildings` is kept for acceptance.
+refuse_held_out <- function(buildings) {
+  if (any(buildings %in% held_for_acceptance)) {
     stop("buildings 19, 57 and 111 are kept for acceptance", call. = FALSE)
   }
+}
+
+# A building's meter readings of a year (time in UTC, value), NULL without.
+archive_meter <- function(b, meter, year) {
+  refuse_held_out(b)
   archive_csv(sprintf("building_data/processed_data/UCam_Building_b%s/%s/%s.csv", b, meter, year))
 }
 

@@ -59,14 +59,13 @@ real_building <- function(b, hourly, epw) {
   month_of <- format(field$time, "%Y-%m", tz = "UTC")
   use <- vapply(months, function(m) sum(field$y[month_of == m]), numeric(1)) /
     cover$share[match(months, cover$month)]
-  start <- as.Date(paste0(months, "-01"))
-  end <- as.Date(vapply(start, function(d) format(seq(d, by = "month", length.out = 2)[2] - 1),
-                        character(1)))
+  periods <- bem_simulator(epw)$periods
+  periods <- periods[format(periods$start, "%Y-%m") %in% months, ]
   area <- sum(use) * 12 / length(months) / 80
   building <- bem_building_facts(area, floors = 4, type = "university", cooling = FALSE,
                                  fan_flow = 1e-3 * area)
   sim <- bem_simulator(epw, parameters = bem_parameters(type = "university"),
-                       building = building, periods = data.frame(start = start, end = end))
+                       building = building, periods = periods)
   vary <- sim$parameters[sim$parameters$parameter %in% c("equipment_power_density",
                                                          "lighting_power_density",
                                                          "fan_total_efficiency"), ]

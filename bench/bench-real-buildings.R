@@ -31,9 +31,7 @@ year <- if (length(args) > 1L) args[2] else "2019"
 archive <- Sys.getenv("BENCH_ARCHIVE")
 if (!nzchar(archive)) stop("set BENCH_ARCHIVE to the archive's folder", call. = FALSE)
 source(file.path("bench", "archive.R"))
-if (any(buildings %in% held_for_acceptance)) {
-  stop("buildings 19, 57 and 111 are kept for acceptance", call. = FALSE)
-}
+refuse_held_out(buildings)
 epw <- archive_epw(year)
 sim <- bem_simulator(epw, by = "hour")
 zone <- "Europe/London"

@@ -135,5 +135,8 @@ test_that("a portfolio's table is checked before anything runs", {
   # one output per building: a meter of several is refused, not read in part
   buildings$field[[2]] <- rbind(cbind(seb_field, output = "elec"), cbind(seb_field, output = "gas"))
   expect_snapshot(calibrate_portfolio(buildings, dir), error = TRUE)
+  meters <- withr::with_seed(1, random_outputs_data())
+  buildings$field[[2]] <- koh_data(meters$field, meters$sim)
+  expect_error(calibrate_portfolio(buildings, dir), "one output", class = "bayesbem_error_argument")
   expect_identical(list.files(dir, pattern = "rds$"), character(0))
 })
