@@ -2,6 +2,7 @@
 # "N passed, N failed, N skipped" (expectations); exits 1 on any failure.
 # Usage, from the package root: Rscript tools/run-tests.R [filter]
 # (`filter`: a regular expression on the test files' names, as testthat's).
+# BAYESBEM_TEST_TIMES=<file> writes each test's seconds there (a CSV).
 Sys.setenv(NOT_CRAN = "true")
 # report every failure (the progress reporter stops after 10 by default)
 options(testthat.progress.max_fails = Inf)
@@ -21,5 +22,10 @@ outcomes <- unlist(lapply(results, function(test) {
 passed <- sum(outcomes == "expectation_success")
 failed <- sum(outcomes %in% c("expectation_failure", "expectation_error"))
 skipped <- sum(outcomes == "expectation_skip")
+times_file <- Sys.getenv("BAYESBEM_TEST_TIMES")
+if (nzchar(times_file)) {
+  times <- as.data.frame(results)[c("file", "test", "real")]
+  utils::write.csv(times[order(-times$real), ], times_file, row.names = FALSE)
+}
 cat(sprintf("\n%d passed, %d failed, %d skipped\n", passed, failed, skipped))
 quit(status = if (failed > 0L) 1L else 0L)

@@ -27,3 +27,11 @@ example_model_path <- function(file) {
 run_totals <- function(table, runs) {
   as.vector(tapply(table$eta, rep(seq_len(runs), each = nrow(table) / runs), sum))
 }
+
+# Runs of the calling test on two local workers (EnergyPlus runs are
+# processes of their own; the suite's R process only waits on them).
+local_eplus_workers <- function(env = parent.frame()) {
+  withr::local_options(future.rng.onMisuse = "ignore", .local_envir = env)
+  future::plan(future::multisession, workers = 2)
+  withr::defer(future::plan(future::sequential), envir = env)
+}

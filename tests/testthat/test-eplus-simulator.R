@@ -20,6 +20,7 @@ test_that("the shipped model runs in EnergyPlus and responds to its parameters",
 
 test_that("everyday model changes leave the monthly electricity as it was", {
   skip_if_no_eplus()
+  local_eplus_workers()
   base <- simulate_design(seb_eplus(), data.frame(cooling_setpoint = c(23.9, 22)))
   model <- seb_model()
   # sizing periods simulated, hourly and daily meters added
@@ -103,6 +104,7 @@ test_that("a field that acts only under a calculation method is set with it or r
 
 test_that("gas is an output like electricity", {
   skip_if_no_eplus()
+  local_eplus_workers()
   gas <- seb_eplus(output = "NaturalGas:Facility")
   out <- simulate_design(gas, data.frame(heating_setpoint = c(15, 20)))
   # the furnace burns gas in winter: more at the higher heating setpoint
@@ -165,6 +167,8 @@ one_zone <- function(...) {
 }
 
 test_that("a zone temperature is averaged over months and days (1ZoneUncontrolled)", {
+  skip_if_no_eplus()
+  local_eplus_workers()
   monthly <- one_zone()
   daily <- one_zone(by = "day")
   design <- data.frame(equipment_gain = c(352, 1000))
@@ -197,12 +201,14 @@ test_that("a zone temperature is averaged over months and days (1ZoneUncontrolle
 test_that("Morris screening, a Latin hypercube, calibration and the closed loop run on EnergyPlus", {
   skip_if_no_eplus()
   skip_if_not_installed("sensitivity")
-  sim <- seb_eplus()
-  withr::local_options(future.rng.onMisuse = "ignore")
-  future::plan(future::multisession, workers = 2)
-  on.exit(future::plan(future::sequential), add = TRUE)
+  # five of the model's parameters: Morris's 2 (5 + 1) runs
+  screened <- c("equipment_power_density", "lighting_power_density", "heating_setpoint",
+                "wall_R_multiplier", "roof_R_multiplier")
+  map <- eplus_parameter_map()
+  sim <- seb_eplus(map = map[map$parameter %in% screened, ])
+  local_eplus_workers()
   m <- screen_morris(sim, r = 2, seed = 1)
-  expect_equal(nrow(m), 14)
+  expect_equal(nrow(m), 5)
   top <- m$parameter[m$rank <= 3]
   # plug loads dominate the electricity of this building
   expect_true("equipment_power_density" %in% top)
@@ -222,6 +228,8 @@ test_that("Morris screening, a Latin hypercube, calibration and the closed loop 
 })
 
 test_that("a zone temperature is calibrated by month and by day to a known truth", {
+  skip_if_no_eplus()
+  local_eplus_workers()
   truth <- list(equipment_gain = 800, roof_r_value = 4)
   sim <- one_zone()
   params <- sim$parameters

@@ -127,13 +127,14 @@ test_that("the calibrated simulator and the TOWT baseline are scored on the same
   baseline <- towt_baseline(field)
   obs <- rep(NA_real_, length(hours))
   obs[held] <- noisy[held]
-  table <- withr::with_seed(6, compare_baseline(fit, baseline, sim, obs, ndraws = 20))
+  cache <- withr::local_tempdir()
+  table <- withr::with_seed(6, compare_baseline(fit, baseline, sim, obs, ndraws = 20, cache_dir = cache))
   expect_s3_class(table, "bayesbem_metrics")
   expect_equal(table$prediction, c("calibrated", "baseline", "calibrated", "baseline"))
   expect_equal(table$by, c("hour", "hour", "month", "month"))
   expect_equal(table$n, c(336, 336, 2, 2))
   # the same draws by hand: the simulator at 20 draws with its noise
-  draws <- withr::with_seed(6, predict_scenario(fit, sim, ndraws = 20))$y[, held]
+  draws <- withr::with_seed(6, predict_scenario(fit, sim, ndraws = 20, cache_dir = cache))$y[, held]
   expect_equal(table$cvrmse[1], cvrmse(noisy[held], colMeans(draws)))
   month <- format(hours[held], "%m")
   totals <- sapply(c("01", "02"), function(m) rowSums(draws[, month == m]))

@@ -27,7 +27,7 @@ test_that("y is eta plus delta, draw by draw", {
 
 test_that("the conditional and the sampled (Appendix D) routes agree", {
   skip_on_cran()
-  fit <- shared_fit()
+  fit <- sampled_fit()
   sampled <- predict(fit, method = "sampled")
   expect_equal(sampled[c("temp", "rh", "solar")], shared_predict_at(), ignore_attr = TRUE)
   # Rao-Blackwellised conditional means over the same posterior draws
@@ -48,7 +48,7 @@ test_that("newdata is checked: extrapolation warns, wrong columns fail", {
   expect_warning(predict(fit, hot, ndraws = 20), class = "bayesbem_warning_extrapolation")
   expect_error(predict(fit, data.frame(temp = 1, rh = 2)), class = "bayesbem_error_columns")
   expect_snapshot(predict(fit, data.frame(temp = 1, rh = 2)), error = TRUE)
-  expect_snapshot(predict(fit, type = "eta", method = "sampled"), error = TRUE)
+  expect_snapshot(predict(sampled_fit(), type = "eta", method = "sampled"), error = TRUE)
 })
 
 test_that("predict() rejects unknown arguments and types with classed errors", {
