@@ -104,7 +104,6 @@ test_that("a field that acts only under a calculation method is set with it or r
 
 test_that("gas is an output like electricity", {
   skip_if_no_eplus()
-  local_eplus_workers()
   gas <- seb_eplus(output = "NaturalGas:Facility")
   out <- simulate_design(gas, data.frame(heating_setpoint = c(15, 20)))
   # the furnace burns gas in winter: more at the higher heating setpoint
@@ -167,8 +166,6 @@ one_zone <- function(...) {
 }
 
 test_that("a zone temperature is averaged over months and days (1ZoneUncontrolled)", {
-  skip_if_no_eplus()
-  local_eplus_workers()
   monthly <- one_zone()
   daily <- one_zone(by = "day")
   design <- data.frame(equipment_gain = c(352, 1000))
