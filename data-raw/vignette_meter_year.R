@@ -6,4 +6,4 @@
 # package root with the package installed:
 #   Rscript data-raw/vignette_meter_year.R
 source("data-raw/render_vignette.R")
-render_recomputed("meter-data.Rmd", "BAYESBEM_METER_YEAR_OUT", "vignette-meter-year.rds")
+render_recomputed("meter-data.Rmd", BAYESBEM_METER_YEAR_OUT = "vignette-meter-year.rds")

@@ -8,4 +8,4 @@
 # package installed:
 #   Rscript data-raw/vignette_real_building.R
 source("data-raw/render_vignette.R")
-render_recomputed("real-building.Rmd", "BAYESBEM_REAL_BUILDING_OUT", "vignette-real-building.rds")
+render_recomputed("real-building.Rmd", BAYESBEM_REAL_BUILDING_OUT = "vignette-real-building.rds")

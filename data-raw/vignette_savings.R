@@ -8,4 +8,4 @@
 #   Rscript data-raw/vignette_savings.R
 stopifnot(bayesbem::eplus_available())
 source("data-raw/render_vignette.R")
-render_recomputed("savings.Rmd", "BAYESBEM_SAVINGS_OUT", "vignette-savings.rds")
+render_recomputed("savings.Rmd", BAYESBEM_SAVINGS_OUT = "vignette-savings.rds")

@@ -9,4 +9,4 @@
 #   Rscript data-raw/vignette_smart_meter.R
 stopifnot(bayesbem::eplus_available())
 source("data-raw/render_vignette.R")
-render_recomputed("smart-meter-fault.Rmd", "BAYESBEM_SMART_METER_OUT", "vignette-smart-meter.rds")
+render_recomputed("smart-meter-fault.Rmd", BAYESBEM_SMART_METER_OUT = "vignette-smart-meter.rds")

@@ -6,4 +6,4 @@
 # Run from the package root with the package installed (about 5 minutes on
 # 2 cores): Rscript data-raw/vignette_studies.R
 source("data-raw/render_vignette.R")
-render_recomputed("calibration.Rmd", "BAYESBEM_STUDIES_OUT", "vignette-studies.rds")
+render_recomputed("calibration.Rmd", BAYESBEM_STUDIES_OUT = "vignette-studies.rds")
