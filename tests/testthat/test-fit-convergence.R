@@ -79,9 +79,12 @@ test_that("a fit that hits the maximum tree depth says so, and rstan's own warni
       warnings[[length(warnings) + 1L]] <<- w
       invokeRestart("muffleWarning")
     })
-  expect_length(warnings, 1)
-  expect_s3_class(warnings[[1]], "bayesbem_warning_convergence")
-  expect_match(conditionMessage(warnings[[1]]), "hit the maximum tree depth \\(2\\)")
+  # bayesbem's own only (a run this short may also pile a posterior against
+  # a range limit, bayesbem_warning_range_limit), and one on convergence
+  expect_true(all(vapply(warnings, inherits, logical(1), "bayesbem_warning")))
+  convergence <- Filter(function(w) inherits(w, "bayesbem_warning_convergence"), warnings)
+  expect_length(convergence, 1)
+  expect_match(conditionMessage(convergence[[1]]), "hit the maximum tree depth \\(2\\)")
   expect_gt(attr(check_convergence(fit, warn = FALSE), "sampler")$treedepth_hits, 0)
 })
 
