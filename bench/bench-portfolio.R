@@ -7,7 +7,9 @@
 # less retrofit.
 #   coverage: over P portfolios of B buildings, how often the 90 %
 #     interval of the portfolio's total holds the true total, and how often
-#     Guideline 14's aggregate FSU (total +- FSU x total) does;
+#     Guideline 14's aggregate FSU (total +- FSU x total) does, and how
+#     many buildings' own 90 % intervals hold their true savings
+#     (BENCH_LAMBDA_DELTA, below, sets the discrepancy's prior);
 #   timing: a portfolio of N buildings on 1 and on 2 local workers
 #     (multisession): wall time, buildings per hour, scaling efficiency
 #     (T1 / (2 T2)), the buildings' jobs' own seconds summed, and the wall
@@ -40,7 +42,8 @@ what <- if (length(args) > 0L) args[1] else "coverage"
 sim <- bem_simulator(system.file("extdata", "2013_AMY.epw.gz", package = "bayesbem"))
 pars <- sim$parameters[sim$parameters$parameter %in% c("equipment_power_density",
                                                        "infiltration_per_exterior_area"), ]
-runs <- simulate_design(sim, design_lhs(pars, 10, seed = 1))
+# BENCH_RUNS: the runs of the synthetic buildings (10 unless set)
+runs <- simulate_design(sim, design_lhs(pars, as.integer(Sys.getenv("BENCH_RUNS", "10")), seed = 1))
 retrofit <- function(s) scenario(s, scale = c(equipment_power_density = 0.7))
 
 # Building b's 2019 electricity as monthly bills on the embedded monthly
@@ -91,8 +94,16 @@ portfolio <- function(p, b) {
   buildings$field <- fields
   buildings$runs <- rep(list(runs), b)
   buildings$simulator <- rep(list(sim), b)
-  list(buildings = buildings, true_total = sum(true_savings))
+  list(buildings = buildings, true_total = sum(true_savings), true_savings = true_savings)
 }
+
+# BENCH_LAMBDA_DELTA="shape,rate": the discrepancy precision's Gamma prior
+# (koh_priors()'s default unless set), e.g. "1e4,1" for a discrepancy held
+# near zero, to see how much of the intervals' width it makes.
+lambda_delta <- Sys.getenv("BENCH_LAMBDA_DELTA")
+priors <- if (nzchar(lambda_delta)) {
+  koh_priors(lambda_delta = as.numeric(strsplit(lambda_delta, ",")[[1]]))
+} else koh_priors()
 
 run <- function(buildings, workers, dir, retrofit) {
   # plan() reads its argument unevaluated: give it a variable
@@ -102,7 +113,7 @@ run <- function(buildings, workers, dir, retrofit) {
   on.exit(future::plan(future::sequential))
   started <- proc.time()[["elapsed"]]
   p <- suppressMessages(calibrate_portfolio(buildings, dir, retrofit = retrofit, ndraws = 20,
-                                            cores = 1L))
+                                            cores = 1L, priors = priors))
   list(portfolio = p, seconds = proc.time()[["elapsed"]] - started)
 }
 
@@ -117,12 +128,15 @@ if (what == "coverage") {
                   retrofit)
     total <- summary(result$portfolio)$total
     half_g14 <- total$fsu_guideline14 * abs(total$savings)
+    each <- summary(result$portfolio)$buildings
     row <- data.frame(portfolio = p, buildings = total$buildings, truth = problem$true_total,
                       savings = total$savings, lower = total$lower, upper = total$upper,
                       covered = problem$true_total >= total$lower &&
                         problem$true_total <= total$upper,
                       fsu = total$fsu, fsu_g14 = total$fsu_guideline14,
                       covered_g14 = abs(problem$true_total - total$savings) <= half_g14,
+                      buildings_covered = sum(problem$true_savings >= each$lower &
+                                                problem$true_savings <= each$upper),
                       seconds = round(result$seconds))
     # each portfolio's row as it finishes, so that a stopped run still tells
     print(row, row.names = FALSE, digits = 4)
@@ -132,6 +146,8 @@ if (what == "coverage") {
   print(table, row.names = FALSE, digits = 4)
   cat(sprintf("\n90 %% interval of the total holds the truth in %d of %d portfolios; Guideline 14's FSU in %d of %d\n",
               sum(table$covered), nrow(table), sum(table$covered_g14), nrow(table)))
+  cat(sprintf("each building's own 90 %% interval holds its truth in %d of %d buildings\n",
+              sum(table$buildings_covered), sum(table$buildings)))
 } else if (what == "real") {
   archive <- Sys.getenv("BENCH_ARCHIVE")
   if (!nzchar(archive)) stop("set BENCH_ARCHIVE to the archive's folder", call. = FALSE)

@@ -61,23 +61,54 @@ test_that("a failing building is recorded with its error and the others complete
   expect_match(p$records$b2$error_class, "^bayesbem_error")
 })
 
+# The two first buildings' results under a future plan, each plan's once
+# (the tests below compare them).
+plan_results <- local({
+  done <- list()
+  function(plan) {
+    if (is.null(done[[plan]])) {
+      strategy <- switch(plan, sequential = future::sequential,
+                         multisession = future::tweak(future::multisession, workers = 2),
+                         batchtools = future.batchtools::batchtools_local,
+                         slurm = future.batchtools::batchtools_slurm)
+      # batchtools' registries in a temporary folder, not the working directory
+      withr::local_options(future.cache.path = withr::local_tempdir())
+      old <- future::plan(strategy)
+      on.exit(future::plan(old), add = TRUE)
+      p <- run_portfolio(portfolio_buildings()[1:2, ], withr::local_tempdir())
+      done[[plan]] <<- lapply(p$records, function(r) r[c("status", "rhat", "cvrmse", "savings_draws")])
+    }
+    done[[plan]]
+  }
+})
+
+# A Slurm cluster that takes jobs here (CI starts one node with
+# tools/slurm-one-node.sh), or the reason there is none.
+slurm_missing <- function() {
+  if (Sys.which("sbatch") == "") return("Slurm is not installed (tools/slurm-one-node.sh starts one node)")
+  state <- suppressWarnings(system2("sinfo", c("-h", "-o", "%t"), stdout = TRUE, stderr = TRUE))
+  if (!any(state %in% c("idle", "mix", "alloc"))) {
+    return(paste0("no Slurm node takes jobs (sinfo: ", paste(state, collapse = " "), ")"))
+  }
+  NULL
+}
+
 test_that("a portfolio gives the same results under sequential, multisession and batchtools plans", {
   skip_on_cran()
   skip_if_not_installed("future.batchtools")
-  buildings <- portfolio_buildings()[1:2, ]
-  # batchtools' registries in a temporary folder, not the working directory
-  withr::local_options(future.cache.path = withr::local_tempdir())
-  results <- lapply(c("sequential", "multisession", "batchtools"), function(plan) {
-    strategy <- switch(plan, sequential = future::sequential,
-                       multisession = future::tweak(future::multisession, workers = 2),
-                       batchtools = future.batchtools::batchtools_local)
-    old <- future::plan(strategy)
-    on.exit(future::plan(old), add = TRUE)
-    p <- run_portfolio(buildings, withr::local_tempdir())
-    lapply(p$records, function(r) r[c("status", "rhat", "cvrmse", "savings_draws")])
-  })
-  expect_equal(results[[2]], results[[1]])
-  expect_equal(results[[3]], results[[1]])
+  expect_equal(plan_results("multisession"), plan_results("sequential"))
+  expect_equal(plan_results("batchtools"), plan_results("sequential"))
+})
+
+test_that("a portfolio sent to a Slurm cluster gives the same results as on one process", {
+  skip_on_cran()
+  skip_if_not_installed("future.batchtools")
+  missing <- slurm_missing()
+  skip_if(!is.null(missing), missing)
+  # batchtools asks squeue for the jobs of $USER, which a container's root
+  # shell may not set (the jobs then look lost as soon as they are queued)
+  if (!nzchar(Sys.getenv("USER"))) withr::local_envvar(USER = Sys.info()[["user"]])
+  expect_equal(plan_results("slurm"), plan_results("sequential"))
 })
 
 test_that("a killed portfolio resumes without redoing finished buildings", {
