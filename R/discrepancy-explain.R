@@ -143,15 +143,13 @@ explain_discrepancy <- function(fit, covariates = NULL, level = 0.9, alpha = 0.0
   check_probability(level)
   check_probability(alpha)
   check_bool(regions)
-  if (is_several(fit)) {
-    check_output_covariates(covariates, names(fit$outputs))
-    outputs <- names(fit$outputs)
-    each <- lapply(stats::setNames(outputs, outputs), function(k) {
-      explain_discrepancy(fit$outputs[[k]], covariates[[k]], level = level, alpha = alpha,
-                          n_null = n_null, ndraws = ndraws, regions = regions, seed = seed)
-    })
-    return(structure(list(outputs = each, alpha = alpha), class = "bayesbem_explanations"))
-  }
+  UseMethod("explain_discrepancy")
+}
+
+#' @export
+explain_discrepancy.bayesbem_fit <- function(fit, covariates = NULL, level = 0.9, alpha = 0.05,
+                                             n_null = 1000, ndraws = NULL, regions = TRUE,
+                                             seed = NULL) {
   weights <- if (regions) region_weights else c(main = 1)
   check_null_size(n_null, alpha, weights)
   data <- fit$data
@@ -281,6 +279,20 @@ print.bayesbem_explanation <- function(x, digits = 3, ...) {
   print_rounded(as.data.frame(unclass(x))[shown, ], digits)
   if (any(!shown)) cat(sprintf("(%d more regions, none beyond chance)\n", sum(!shown)))
   invisible(x)
+}
+
+# Each output's explanation, its terms `covariates[[k]]`.
+#' @export
+explain_discrepancy.bayesbem_fit_outputs <- function(fit, covariates = NULL, level = 0.9,
+                                                     alpha = 0.05, n_null = 1000, ndraws = NULL,
+                                                     regions = TRUE, seed = NULL) {
+  check_output_covariates(covariates, names(fit$outputs))
+  outputs <- names(fit$outputs)
+  each <- lapply(stats::setNames(outputs, outputs), function(k) {
+    explain_discrepancy(fit$outputs[[k]], covariates[[k]], level = level, alpha = alpha,
+                        n_null = n_null, ndraws = ndraws, regions = regions, seed = seed)
+  })
+  structure(list(outputs = each, alpha = alpha), class = "bayesbem_explanations")
 }
 
 #' @export

@@ -59,10 +59,13 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, output = NUL
                      i = "{.arg with} adds statistical discrepancy terms; {.arg sim} a simulator with the missing mechanism."),
                    "argument")
   }
-  if (is_several(fit)) {
-    return(extend_outputs(fit, with, covariates, sim, output, ...))
-  }
   check_fit(fit)
+  UseMethod("extend")
+}
+
+#' @export
+extend.bayesbem_fit <- function(fit, with = NULL, covariates = NULL, sim = NULL, output = NULL,
+                                ...) {
   if (!is.null(output)) {
     abort_bayesbem("{.arg output} is for fits on several outputs; this fit has one.", "argument")
   }
@@ -81,7 +84,10 @@ extend <- function(fit, with = NULL, covariates = NULL, sim = NULL, output = NUL
 
 # extend() of a fit on several outputs: the terms of `with` on one output's
 # discrepancy, or every output's runs from a new long table.
-extend_outputs <- function(fit, with, covariates, sim, output, ..., call = rlang::caller_env()) {
+#' @export
+extend.bayesbem_fit_outputs <- function(fit, with = NULL, covariates = NULL, sim = NULL,
+                                        output = NULL, ...) {
+  call <- rlang::current_env()
   terms <- fit_covariates(fit)
   if (!is.null(sim)) {
     field <- outputs_long_table(fit$data)

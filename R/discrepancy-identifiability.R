@@ -62,10 +62,12 @@ identifiability <- function(fit, ndraws = 100, refit = FALSE, ...) {
   rlang::check_dots_empty()
   check_count(ndraws)
   check_bool(refit)
-  if (is_several(fit)) {
-    return(identifiability_outputs(fit, ndraws, refit))
-  }
   check_fit(fit)
+  UseMethod("identifiability")
+}
+
+#' @export
+identifiability.bayesbem_fit <- function(fit, ndraws = 100, refit = FALSE, ...) {
   identifiability_fit(fit, ndraws, refit)
 }
 
@@ -112,7 +114,8 @@ identifiability_verdict <- function(sd_ratio, confounded) {
 }
 
 # identifiability() of a fit on several outputs (see its Details).
-identifiability_outputs <- function(fit, ndraws, refit) {
+#' @export
+identifiability.bayesbem_fit_outputs <- function(fit, ndraws = 100, refit = FALSE, ...) {
   outputs <- names(fit$outputs)
   per <- lapply(fit$outputs, identifiability_fit, ndraws = ndraws, refit = FALSE,
                 information = TRUE)

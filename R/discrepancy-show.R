@@ -48,9 +48,11 @@
 discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = NULL) {
   check_fit(fit)
   check_probability(level)
-  if (is_several(fit)) {
-    return(outputs_discrepancy(fit, newdata, obs, level, ndraws))
-  }
+  UseMethod("discrepancy")
+}
+
+#' @export
+discrepancy.bayesbem_fit <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = NULL) {
   if (!is.null(newdata) && is.null(obs)) {
     abort_bayesbem("Give {.arg obs}, the measured outputs at {.arg newdata}.", "argument")
   }
@@ -78,9 +80,11 @@ discrepancy <- function(fit, newdata = NULL, obs = NULL, level = 0.9, ndraws = N
 # discrepancy() of each output of a fit on several outputs, on its field
 # data, stacked with a first column `output`; each output's band is its own
 # (`attr(, "critical")` by output), the verdict one line per output.
-outputs_discrepancy <- function(fit, newdata, obs, level, ndraws, call = rlang::caller_env()) {
+#' @export
+discrepancy.bayesbem_fit_outputs <- function(fit, newdata = NULL, obs = NULL, level = 0.9,
+                                             ndraws = NULL) {
   each <- output_results(fit, discrepancy, list(newdata = newdata, obs = obs),
-                         level = level, ndraws = ndraws, call = call)
+                         level = level, ndraws = ndraws)
   parts <- each$results
   structure(each$table, class = c("bayesbem_discrepancy", "data.frame"), level = level,
             critical = vapply(parts, attr, numeric(1), "critical"),

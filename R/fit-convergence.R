@@ -51,7 +51,7 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
   out <- structure(s, class = c("bayesbem_convergence", "data.frame"), sampler = sampler,
                    thresholds = list(rhat_max = rhat_max, ess_min = ess_min,
                                      ebfmi_min = ebfmi_min),
-                   emulator = if (!is_several(fit)) emulator_variables(fit),
+                   emulator = emulator_variables(fit),
                    kept_moved = fit$settings$kept_moved %||% integer(0))
   if (warn) warn_convergence(out)
   out
@@ -60,20 +60,23 @@ check_convergence <- function(fit, rhat_max = 1.01, ess_min = NULL, ebfmi_min = 
 # R-hat and ESS of the variables a fit samples; for a fit on several
 # outputs, the shared parameters once and each output's own under its name
 # (output_variables()).
-convergence_rows <- function(fit) {
-  if (is_several(fit)) {
-    rows <- lapply(names(fit$outputs), function(k) {
-      s <- convergence_rows(fit$outputs[[k]])
-      v <- output_variables(s$variable, k, names(fit$outputs), fit$data$names$t)
-      s <- s[s$variable %in% names(v), , drop = FALSE]
-      s$variable <- unname(v[s$variable])
-      s
-    })
-    return(do.call(rbind, rows))
-  }
+convergence_rows <- function(fit) UseMethod("convergence_rows")
+
+convergence_rows.bayesbem_fit <- function(fit) {
   s <- summarise_fit(fit, rhat = posterior::rhat, ess_bulk = posterior::ess_bulk,
                      ess_tail = posterior::ess_tail)
   s[!s$variable %in% fixed_variables(fit), , drop = FALSE]
+}
+
+convergence_rows.bayesbem_fit_outputs <- function(fit) {
+  rows <- lapply(names(fit$outputs), function(k) {
+    s <- convergence_rows(fit$outputs[[k]])
+    v <- output_variables(s$variable, k, names(fit$outputs), fit$data$names$t)
+    s <- s[s$variable %in% names(v), , drop = FALSE]
+    s$variable <- unname(v[s$variable])
+    s
+  })
+  do.call(rbind, rows)
 }
 
 warn_convergence <- function(conv) {

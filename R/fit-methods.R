@@ -26,9 +26,6 @@ NULL
 #' @exportS3Method posterior::as_draws_array
 as_draws_array.bayesbem_fit <- function(x, ...) {
   rlang::check_dots_empty()
-  if (is_several(x)) {
-    return(several_draws_array(x))
-  }
   d <- x$data
   h_names <- names(d$covariates)
   b_names <- mean_term_names(x$priors, d)
@@ -53,11 +50,11 @@ as_draws_array.bayesbem_fit <- function(x, ...) {
 
 #' @rdname as_draws.bayesbem_fit
 #' @exportS3Method posterior::as_draws
-as_draws.bayesbem_fit <- function(x, ...) as_draws_array.bayesbem_fit(x, ...)
+as_draws.bayesbem_fit <- function(x, ...) posterior::as_draws_array(x, ...)
 
 #' @rdname as_draws.bayesbem_fit
 #' @exportS3Method posterior::as_draws_df
-as_draws_df.bayesbem_fit <- function(x, ...) posterior::as_draws_df(as_draws_array.bayesbem_fit(x, ...))
+as_draws_df.bayesbem_fit <- function(x, ...) posterior::as_draws_df(posterior::as_draws_array(x, ...))
 
 #' Summarise a KOH calibration
 #'
@@ -85,9 +82,6 @@ as_draws_df.bayesbem_fit <- function(x, ...) posterior::as_draws_df(as_draws_arr
 #' seb_fit
 summary.bayesbem_fit <- function(object, ...) {
   rlang::check_dots_empty()
-  if (is_several(object)) {
-    return(several_summary(object))
-  }
   s <- summarise_fit(
     object, mean = mean, sd = stats::sd,
     quantiles = function(v) {
@@ -148,9 +142,6 @@ summarise_quietly <- function(draws, measures) {
 #' @export
 print.summary.bayesbem_fit <- function(x, ...) {
   rlang::check_dots_empty()
-  if (!is.null(x$outputs)) {
-    return(print_several_summary(x))
-  }
   st <- x$settings
   cat(sprintf("KOH calibration: %d field rows, %d simulation rows, %d inputs, %d parameters (%s likelihood%s)\n",
               x$data$n, x$data$m, x$data$p, x$data$q, st$structure %||% "dense",
@@ -216,12 +207,14 @@ print.bayesbem_fit <- function(x, ...) {
 
 # Draws (rows) of calibration parameters `names` in physical units.
 parameter_draws <- function(fit, names = fit$data$names$t) {
-  posterior::as_draws_matrix(as_draws_array.bayesbem_fit(fit))[, names, drop = FALSE]
+  posterior::as_draws_matrix(posterior::as_draws_array(fit))[, names, drop = FALSE]
 }
 
 # as_draws_array() of a fit on several outputs: the shared parameters once,
 # each output's own named "<output>:<variable>" (output_variables()).
-several_draws_array <- function(x) {
+#' @exportS3Method posterior::as_draws_array
+as_draws_array.bayesbem_fit_outputs <- function(x, ...) {
+  rlang::check_dots_empty()
   draws <- lapply(names(x$outputs), function(k) {
     d <- as_draws_array.bayesbem_fit(x$outputs[[k]])
     v <- output_variables(posterior::variables(d), k, names(x$outputs), c(x$data$names$t, "lp__"))
@@ -235,15 +228,18 @@ several_draws_array <- function(x) {
 
 # summary() of a fit on several outputs: the shared parameters once, each
 # output's summary.
-several_summary <- function(object) {
+#' @export
+summary.bayesbem_fit_outputs <- function(object, ...) {
+  rlang::check_dots_empty()
   outputs <- lapply(object$outputs, summary)
   structure(list(parameters = outputs[[1]]$parameters, outputs = outputs,
                  settings = object$settings, sampler = fit_sampler_diagnostics(object)),
-            class = "summary.bayesbem_fit")
+            class = c("summary.bayesbem_fit_outputs", "summary.bayesbem_fit"))
 }
 
-# print() of several_summary().
-print_several_summary <- function(x) {
+#' @export
+print.summary.bayesbem_fit_outputs <- function(x, ...) {
+  rlang::check_dots_empty()
   st <- x$settings
   sizes <- vapply(x$outputs, function(s) s$data$n, integer(1))
   cat(sprintf("KOH calibration on %d outputs (%s field rows), %d parameters (modular%s)\n",

@@ -89,8 +89,13 @@ fixed_variables <- function(fit) {
 }
 
 # The names of the emulator's hyperparameters in the convergence table: its
-# correlation parameters, variance and mean coefficients.
-emulator_variables <- function(fit) {
+# correlation parameters, variance and mean coefficients. None on several
+# outputs: such a fit is modular, its emulators fixed at stage 1.
+emulator_variables <- function(fit) UseMethod("emulator_variables")
+
+emulator_variables.bayesbem_fit_outputs <- function(fit) character()
+
+emulator_variables.bayesbem_fit <- function(fit) {
   names <- emulator_draw_names(fit$data, mean_term_names(fit$priors, fit$data))
   c(names$beta_eta, "lambda_eta", names$b)
 }

@@ -34,13 +34,16 @@ output_view <- function(fit, k, emulator, part) {
                    emulator = emulator)
 }
 
-# A fit on several outputs with each output's view, by name.
+# A fit on several outputs with each output's view, by name: class
+# `bayesbem_fit_outputs`, whose methods of the package's verbs apply the
+# one-output verb to each view.
 with_output_views <- function(fit) {
   emulators <- output_emulators(fit$data, fit$emulator)
   parts <- output_parts(fit$data, fit$emulator)
   k <- names(fit$data$outputs)
   fit$outputs <- stats::setNames(Map(function(k, em, part) output_view(fit, k, em, part),
                                      k, emulators, parts[k]), k)
+  class(fit) <- c("bayesbem_fit_outputs", class(fit))
   fit
 }
 
@@ -61,9 +64,26 @@ output_results <- function(fit, tool, given, ..., call = rlang::caller_env()) {
   list(results = results, table = stack_outputs(results))
 }
 
+# A verb's one-output method given `total`, which adds a fit's outputs.
+check_no_total <- function(total, call = rlang::caller_env()) {
+  if (!is.null(total)) {
+    abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
+                   "argument", call = call)
+  }
+}
+
+# A tool of one meter given a fit on several outputs.
+check_one_output <- function(fit, call = rlang::caller_env()) {
+  if (inherits(fit, "bayesbem_fit_outputs")) {
+    abort_bayesbem(c("{.arg fit} has several outputs; this tool takes one at a time.",
+                     i = "Give {.code output_fit(fit, \"{names(fit$outputs)[1]}\")} and that meter's data."),
+                   "argument", call = call)
+  }
+}
+
 # The one-output fits of a fit: its outputs' views, or the fit itself.
 output_fit_list <- function(fit) {
-  if (is_several(fit)) fit$outputs else list(fit)
+  if (inherits(fit, "bayesbem_fit_outputs")) fit$outputs else list(fit)
 }
 
 #' One output of a fit on several outputs
@@ -98,7 +118,7 @@ output_fit_list <- function(fit) {
 #' output_fit(fit, "gas")
 #' }
 output_fit <- function(fit, output) {
-  if (!inherits(fit, "bayesbem_fit") || !is_several(fit)) {
+  if (!inherits(fit, "bayesbem_fit_outputs")) {
     abort_bayesbem(c("{.arg fit} must be a fit on several outputs, not {.obj_type_friendly {fit}}.",
                      i = "Calibrate on data with an {.field output} column (see {.fn koh_data})."),
                    "argument")

@@ -226,8 +226,9 @@
 #'   warning of class `bayesbem_warning_range_limit` naming the parameter,
 #'   the limit and what to do: the data ask for a value the range excludes,
 #'   or for a cause the model lacks.
-#' @return An object of class `bayesbem_fit`, of one output or several: the
-#'   posterior draws of the Stan program's parameters (`draws`, a
+#' @return An object of class `bayesbem_fit` (on several outputs also
+#'   `bayesbem_fit_outputs`, whose methods of the package's verbs apply
+#'   each to every output, see [output_fit()]): the posterior draws of the Stan program's parameters (`draws`, a
 #'   [posterior::draws_array] on the program's scale; each output's own
 #'   variables named `"<output>:<variable>"` on several outputs), the
 #'   sampler's diagnostics, the [koh_data()] (with its scaling), the priors
@@ -781,10 +782,11 @@ refit <- function(fit, ...) {
 
 # A fit's discrepancy terms as calibrate() takes them: a table, or on
 # several outputs a list of tables by output (those with terms).
-fit_covariates <- function(fit) {
-  if (!is_several(fit)) {
-    return(fit$data$covariates)
-  }
+fit_covariates <- function(fit) UseMethod("fit_covariates")
+
+fit_covariates.bayesbem_fit <- function(fit) fit$data$covariates
+
+fit_covariates.bayesbem_fit_outputs <- function(fit) {
   terms <- Filter(Negate(is.null), lapply(fit$data$outputs, `[[`, "covariates"))
   if (length(terms) > 0L) terms
 }

@@ -58,19 +58,20 @@ savings <- function(fit, baseline, retrofit, ndraws = 40,
                     discrepancy = c("same", "proportional", "none"), covariates = NULL,
                     cache_dir = NULL, total = NULL, ...) {
   rlang::check_dots_empty()
+  check_same_periods(as_scenario(baseline), as_scenario(retrofit))
+  match_choice(discrepancy)
+  check_fit(fit)
+  UseMethod("savings")
+}
+
+#' @export
+savings.bayesbem_fit <- function(fit, baseline, retrofit, ndraws = 40,
+                                 discrepancy = c("same", "proportional", "none"),
+                                 covariates = NULL, cache_dir = NULL, total = NULL, ...) {
   baseline <- as_scenario(baseline)
   retrofit <- as_scenario(retrofit)
   discrepancy <- match_choice(discrepancy)
-  check_same_periods(baseline, retrofit)
-  if (is_several(fit)) {
-    return(savings_outputs(fit, baseline, retrofit, ndraws, discrepancy, covariates, cache_dir,
-                           total))
-  }
-  check_fit(fit)
-  if (!is.null(total)) {
-    abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
-                   "argument")
-  }
+  check_no_total(total)
   inputs <- scenario_inputs(fit, baseline, covariates)
   runs <- scenario_runs(fit, list(baseline, retrofit), ndraws, cache_dir)
   base <- runs$simulated[[1]]
@@ -90,8 +91,14 @@ savings <- function(fit, baseline, retrofit, ndraws = 40,
 # savings() of a fit on several outputs: each output's from the same runs
 # (shared_runs(), one run per draw and scenario for every output), and the
 # weighted total of their savings draw by draw.
-savings_outputs <- function(fit, baseline, retrofit, ndraws, discrepancy, covariates, cache_dir,
-                            total, call = rlang::caller_env()) {
+#' @export
+savings.bayesbem_fit_outputs <- function(fit, baseline, retrofit, ndraws = 40,
+                                         discrepancy = c("same", "proportional", "none"),
+                                         covariates = NULL, cache_dir = NULL, total = NULL, ...) {
+  call <- rlang::current_env()
+  baseline <- as_scenario(baseline)
+  retrofit <- as_scenario(retrofit)
+  discrepancy <- match_choice(discrepancy)
   check_output_covariates(covariates, names(fit$outputs), call)
   per <- each_output_runs(fit, list(baseline, retrofit), function(k, fit, baseline, retrofit) {
     savings(fit, baseline, retrofit, ndraws = ndraws, discrepancy = discrepancy,
@@ -234,17 +241,19 @@ avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
                            cache_dir = NULL, total = NULL, ...) {
   rlang::check_dots_empty()
   check_fit(fit)
-  reporting <- as_scenario(reporting)
+  as_scenario(reporting)
   check_probability(level)
+  match_choice(discrepancy)
+  UseMethod("avoided_energy")
+}
+
+#' @export
+avoided_energy.bayesbem_fit <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
+                                        discrepancy = c("same", "proportional", "none"),
+                                        covariates = NULL, cache_dir = NULL, total = NULL, ...) {
+  reporting <- as_scenario(reporting)
   discrepancy <- match_choice(discrepancy)
-  if (is_several(fit)) {
-    return(avoided_energy_outputs(fit, reporting, obs, ndraws, level, discrepancy, covariates,
-                                  cache_dir, total))
-  }
-  if (!is.null(total)) {
-    abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
-                   "argument")
-  }
+  check_no_total(total)
   keep <- measured_periods(obs, nrow(reporting$simulator$x))
   obs <- obs[keep]
   m <- length(keep)
@@ -272,8 +281,14 @@ avoided_energy <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
 # runs, `obs` a list by output, and the weighted total of the outputs'
 # totals draw by draw (their measured periods may differ, so only the
 # totals add up).
-avoided_energy_outputs <- function(fit, reporting, obs, ndraws, level, discrepancy, covariates,
-                                   cache_dir, total, call = rlang::caller_env()) {
+#' @export
+avoided_energy.bayesbem_fit_outputs <- function(fit, reporting, obs, ndraws = 40, level = 0.9,
+                                                discrepancy = c("same", "proportional", "none"),
+                                                covariates = NULL, cache_dir = NULL, total = NULL,
+                                                ...) {
+  call <- rlang::current_env()
+  reporting <- as_scenario(reporting)
+  discrepancy <- match_choice(discrepancy)
   outputs <- names(fit$outputs)
   if (!is.list(obs) || is.null(names(obs)) || !setequal(names(obs), outputs)) {
     abort_bayesbem(c("On several outputs, {.arg obs} must be a list of measured uses named by output.",

@@ -129,11 +129,16 @@ check_held_out <- function(newdata, obs, data, call = rlang::caller_env()) {
 calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
                                 by = c("month", "week", "day", "hour"),
                                 simulator = NULL, ndraws = NULL, cache_dir = NULL) {
-  by <- match_choice(by)
+  match_choice(by)
   check_fit(fit)
-  if (is_several(fit)) {
-    return(outputs_metrics(fit, newdata, obs, by, simulator, ndraws))
-  }
+  UseMethod("calibration_metrics")
+}
+
+#' @export
+calibration_metrics.bayesbem_fit <- function(fit, newdata = NULL, obs = NULL,
+                                             by = c("month", "week", "day", "hour"),
+                                             simulator = NULL, ndraws = NULL, cache_dir = NULL) {
+  by <- match_choice(by)
   limits <- if (by == "month") c(15, 5) else c(30, 10)
   check_both_or_neither(newdata, obs)
   sets <- list(training = training_predictions(fit, simulator, ndraws, cache_dir))
@@ -155,10 +160,14 @@ calibration_metrics <- function(fit, newdata = NULL, obs = NULL,
 # calibration_metrics() of each output of a fit on several outputs, on its
 # training data, with a first column `output`. Held-out data and simulators
 # are an output's own, so they are given output by output.
-outputs_metrics <- function(fit, newdata, obs, by, simulator, ndraws, call = rlang::caller_env()) {
+#' @export
+calibration_metrics.bayesbem_fit_outputs <- function(fit, newdata = NULL, obs = NULL,
+                                                     by = c("month", "week", "day", "hour"),
+                                                     simulator = NULL, ndraws = NULL,
+                                                     cache_dir = NULL) {
   each <- output_results(fit, calibration_metrics,
                          list(newdata = newdata, obs = obs, simulator = simulator),
-                         by = by, ndraws = ndraws, call = call)
+                         by = by, ndraws = ndraws, cache_dir = cache_dir)
   structure(each$table, class = c("bayesbem_metrics", "data.frame"))
 }
 
@@ -258,11 +267,7 @@ measured_periods <- function(measured, n, arg = rlang::caller_arg(measured),
 compare_baseline <- function(fit, baseline, newdata, obs, level = 0.9, ndraws = 40,
                              cache_dir = NULL) {
   check_fit(fit)
-  if (is_several(fit)) {
-    abort_bayesbem(c("{.arg fit} has several outputs; compare one at a time.",
-                     i = "Give {.code output_fit(fit, \"{names(fit$outputs)[1]}\")} and that meter's baseline."),
-                   "argument")
-  }
+  check_one_output(fit)
   if (!inherits(baseline, "bayesbem_towt")) {
     abort_bayesbem("{.arg baseline} must be a {.fn towt_baseline}, not {describe_value(baseline)}.",
                    "argument")

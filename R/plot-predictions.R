@@ -43,9 +43,17 @@ plot_predictions <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
 #' @rdname plot_predictions
 #' @export
 plot_predictions_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
-  if (is_several(x)) {
-    return(outputs_plot_data(x, plot_predictions_data, newdata, obs, ndraws))
-  }
+  check_fit(x)
+  UseMethod("plot_predictions_data")
+}
+
+#' @export
+plot_predictions_data.bayesbem_fit_outputs <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
+  outputs_plot_data(x, plot_predictions_data, newdata, obs, ndraws)
+}
+
+#' @export
+plot_predictions_data.bayesbem_fit <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
   set <- prediction_set(x, newdata, obs)
   stats <- box_stats(predict_draws(x, set$x, ndraws = ndraws)$y)
   x_names <- x$data$names$x
@@ -104,9 +112,17 @@ plot_components <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
 #' @rdname plot_components
 #' @export
 plot_components_data <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
-  if (is_several(x)) {
-    return(outputs_plot_data(x, plot_components_data, newdata, obs, ndraws))
-  }
+  check_fit(x)
+  UseMethod("plot_components_data")
+}
+
+#' @export
+plot_components_data.bayesbem_fit_outputs <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
+  outputs_plot_data(x, plot_components_data, newdata, obs, ndraws)
+}
+
+#' @export
+plot_components_data.bayesbem_fit <- function(x, newdata = NULL, obs = NULL, ndraws = NULL) {
   sets <- evaluation_sets(x, newdata, obs)
   labels <- component_labels()
   rows <- lapply(names(sets), function(set) {

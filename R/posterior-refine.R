@@ -115,8 +115,8 @@ check_outcome <- function(check) {
 # fit's scale.
 refined_data <- function(fit, added, call = rlang::caller_env()) {
   data <- fit$data
-  column <- if (is_several(fit)) data$output
-  if (is.null(column)) {
+  # the output column of a fit on several outputs (none on one)
+  if (is.null(data$output)) {
     field <- field_table(data)
     runs <- rbind(data$sim, refinement_runs(data, added, call))
   } else {
@@ -134,7 +134,7 @@ refined_data <- function(fit, added, call = rlang::caller_env()) {
   }
   names <- output_data(data)[[1]]$names
   koh_data(field, runs, y = names$y, eta = names$eta, t = names$t, period = names$period,
-           scales = t_scales(data$scaling), output = column)
+           scales = t_scales(data$scaling), output = data$output)
 }
 
 # The added runs in the columns of the fit's runs, at the fit's simulation

@@ -64,18 +64,21 @@ predict_scenario <- function(fit, scenario, ndraws = 40,
                              discrepancy = c("same", "proportional", "none"), noise = TRUE,
                              covariates = NULL, cache_dir = NULL, total = NULL, ...) {
   rlang::check_dots_empty()
-  discrepancy <- match_choice(discrepancy)
-  if (is_several(fit)) {
-    return(predict_scenario_outputs(fit, scenario, ndraws, discrepancy, noise, covariates,
-                                    cache_dir, total))
-  }
+  match_choice(discrepancy)
   check_fit(fit)
-  if (!is.null(total)) {
-    abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
-                   "argument")
-  }
-  scenario <- as_scenario(scenario)
+  as_scenario(scenario)
   check_bool(noise)
+  UseMethod("predict_scenario")
+}
+
+#' @export
+predict_scenario.bayesbem_fit <- function(fit, scenario, ndraws = 40,
+                                          discrepancy = c("same", "proportional", "none"),
+                                          noise = TRUE, covariates = NULL, cache_dir = NULL,
+                                          total = NULL, ...) {
+  discrepancy <- match_choice(discrepancy)
+  check_no_total(total)
+  scenario <- as_scenario(scenario)
   changed <- length(scenario$set) + length(scenario$scale) > 0L
   scenarios <- list(scenario)
   if (discrepancy == "proportional" && changed) {
@@ -120,9 +123,14 @@ print.bayesbem_scenario_prediction <- function(x, ...) {
 }
 
 # predict_scenario() of a fit on several outputs (see its section).
-predict_scenario_outputs <- function(fit, scenario, ndraws, discrepancy, noise, covariates,
-                                     cache_dir, total, call = rlang::caller_env()) {
-  scenario <- as_scenario(scenario, "scenario", call = call)
+#' @export
+predict_scenario.bayesbem_fit_outputs <- function(fit, scenario, ndraws = 40,
+                                                  discrepancy = c("same", "proportional", "none"),
+                                                  noise = TRUE, covariates = NULL,
+                                                  cache_dir = NULL, total = NULL, ...) {
+  call <- rlang::current_env()
+  discrepancy <- match_choice(discrepancy)
+  scenario <- as_scenario(scenario)
   check_output_covariates(covariates, names(fit$outputs), call)
   preds <- each_output_runs(fit, list(scenario), function(k, one, scenario) {
     predict_scenario(one, scenario, ndraws = ndraws, discrepancy = discrepancy, noise = noise,

@@ -107,12 +107,23 @@
 validate_emulator <- function(fit, simulator, ndraws = 40, level = 0.9, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
   check_probability(level)
-  if (is_several(fit)) {
-    checks <- each_output_runs(fit, list(simulator), function(k, fit, simulator) {
-      validate_emulator(fit, simulator, ndraws = ndraws, level = level, cache_dir = cache_dir)
-    })
-    return(structure(checks, class = "bayesbem_emulator_checks"))
-  }
+  check_fit(fit)
+  UseMethod("validate_emulator")
+}
+
+# Each output's check, from one run of the simulator per draw.
+#' @export
+validate_emulator.bayesbem_fit_outputs <- function(fit, simulator, ndraws = 40, level = 0.9,
+                                                   cache_dir = NULL, ...) {
+  checks <- each_output_runs(fit, list(simulator), function(k, fit, simulator) {
+    validate_emulator(fit, simulator, ndraws = ndraws, level = level, cache_dir = cache_dir)
+  })
+  structure(checks, class = "bayesbem_emulator_checks")
+}
+
+#' @export
+validate_emulator.bayesbem_fit <- function(fit, simulator, ndraws = 40, level = 0.9,
+                                           cache_dir = NULL, ...) {
   runs <- posterior_runs(fit, simulator, ndraws, cache_dir)
   data <- fit$data
   x <- field_inputs(data)[data$names$x]
@@ -194,16 +205,24 @@ posterior_simulate <- function(fit, simulator, ndraws = 40, summary = TRUE,
                                level = 0.9, cache_dir = NULL, ...) {
   rlang::check_dots_empty()
   check_bool(summary)
-  if (is_several(fit)) {
-    each <- each_output_runs(fit, list(simulator), function(k, fit, simulator) {
-      posterior_simulate(fit, simulator, ndraws = ndraws, summary = summary, level = level,
-                         cache_dir = cache_dir)
-    })
-    if (!summary) {
-      return(each)
-    }
-    return(stack_outputs(each))
-  }
+  check_fit(fit)
+  UseMethod("posterior_simulate")
+}
+
+# Each output's runs, by output (their summaries stacked).
+#' @export
+posterior_simulate.bayesbem_fit_outputs <- function(fit, simulator, ndraws = 40, summary = TRUE,
+                                                    level = 0.9, cache_dir = NULL, ...) {
+  each <- each_output_runs(fit, list(simulator), function(k, fit, simulator) {
+    posterior_simulate(fit, simulator, ndraws = ndraws, summary = summary, level = level,
+                       cache_dir = cache_dir)
+  })
+  if (summary) stack_outputs(each) else each
+}
+
+#' @export
+posterior_simulate.bayesbem_fit <- function(fit, simulator, ndraws = 40, summary = TRUE,
+                                            level = 0.9, cache_dir = NULL, ...) {
   runs <- posterior_runs(fit, simulator, ndraws, cache_dir)
   eta <- runs$eta[stats::complete.cases(runs$eta), , drop = FALSE]
   if (!summary) {

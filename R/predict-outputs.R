@@ -5,7 +5,19 @@
 # posterior draws, and their weighted total (site energy, or cost with
 # prices per unit of each output) draw by draw, so that the total's
 # uncertainty holds the outputs' dependence through the shared parameters.
-predict_outputs <- function(object, newdata, type, ndraws, summary, noise, level, total) {
+#' @export
+predict.bayesbem_fit_outputs <- function(object, newdata = NULL, type = c("y", "eta", "delta"),
+                                         ndraws = NULL, summary = TRUE, noise = FALSE,
+                                         method = c("conditional", "sampled"),
+                                         level = 0.9, total = NULL, ...) {
+  rlang::check_dots_empty()
+  type <- match_choice(type)
+  check_bool(summary)
+  check_bool(noise)
+  if (match_choice(method) == "sampled") {
+    abort_bayesbem("{.code method = \"sampled\"} is for a fit of one output calibrated with {.arg predict_at}.",
+                   "argument")
+  }
   inputs <- outputs_newdata(object, newdata)
   draws <- lapply(stats::setNames(names(inputs), names(inputs)), function(k) {
     predict_draws(object$outputs[[k]], inputs[[k]], ndraws = ndraws, noise = noise,

@@ -75,17 +75,7 @@ predict.bayesbem_fit <- function(object, newdata = NULL, type = c("y", "eta", "d
   method <- match_choice(method)
   check_bool(summary)
   check_bool(noise)
-  if (is_several(object)) {
-    if (method == "sampled") {
-      abort_bayesbem("{.code method = \"sampled\"} is for a fit of one output calibrated with {.arg predict_at}.",
-                     "argument")
-    }
-    return(predict_outputs(object, newdata, type, ndraws, summary, noise, level, total))
-  }
-  if (!is.null(total)) {
-    abort_bayesbem("{.arg total} adds the outputs of a fit on several outputs; this fit has one.",
-                   "argument")
-  }
+  check_no_total(total)
   if (method == "sampled") {
     draws <- sampled_predictions(object, newdata, type)
     newdata <- object$predict_at

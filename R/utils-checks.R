@@ -34,5 +34,3 @@ check_numeric_complete <- function(d, cols, arg, call = rlang::caller_env()) {
   }
 }
 
-# Whether a fit is on several outputs (a long table's outputs, one or more).
-is_several <- function(fit) inherits(fit, "bayesbem_fit") && !is.null(fit$outputs)

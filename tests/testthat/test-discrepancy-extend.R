@@ -135,7 +135,7 @@ test_that("extend() puts the terms on one output's discrepancy of a fit on sever
   n_gas <- output_fit(fit, "gas")$data$n
   change <- data.frame(after_change = as.numeric(seq_len(n_gas) > 6))
   ext <- suppressWarnings(extend(fit, with = "after_change", covariates = change, output = "gas"))
-  expect_true(bayesbem:::is_several(ext))
+  expect_s3_class(ext, "bayesbem_fit_outputs")
   gas <- posterior::variables(posterior::as_draws(output_fit(ext, "gas")))
   electricity <- posterior::variables(posterior::as_draws(output_fit(ext, "electricity")))
   expect_true("gamma[after_change]" %in% gas)

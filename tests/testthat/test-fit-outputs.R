@@ -88,7 +88,7 @@ test_that("one output in a long table gives the one-output fit, draw for draw", 
                                     progress = FALSE))
   long <- suppressWarnings(calibrate(long_field, long_sim, chains = 1, iter = 300, seed = test_seed(5),
                                      progress = FALSE))
-  expect_true(bayesbem:::is_several(long))
+  expect_s3_class(long, "bayesbem_fit_outputs")
   expect_identical(posterior::as_draws_array(output_fit(long, "electricity")),
                    posterior::as_draws_array(one))
   expect_identical(posterior::as_draws_array(output_fit(long, 1)), posterior::as_draws_array(one))

@@ -90,6 +90,9 @@ slurm_missing <- function() {
   if (!any(state %in% c("idle", "mix", "alloc"))) {
     return(paste0("no Slurm node takes jobs (sinfo: ", paste(state, collapse = " "), ")"))
   }
+  # a node that is up but does not run jobs would hang the test: one job first
+  ran <- suppressWarnings(system2("timeout", c("60", "srun", "-t", "1", "true"), stdout = FALSE, stderr = FALSE))
+  if (ran != 0) return("Slurm did not run a one-second job within a minute (srun true)")
   NULL
 }
 
