@@ -40,6 +40,20 @@ functions {
     return tf;
   }
 
+  /* The Beta(a, b) prior of rho = inv_logit(x) with the change of variables
+   * to x, summed over x's elements (the logistic-beta density):
+   *   log Beta(rho | a, b) + log rho + log(1 - rho)
+   *     = a log inv_logit(x) + b log(1 - inv_logit(x)) - log B(a, b),
+   * computed from x: where the likelihood is flat in rho (an additive
+   * discrepancy's length scale past its floor) x reaches 30 and more, where
+   * 1 - rho computed from rho is lost to rounding and Beta's density at rho
+   * diverges. */
+  real logit_beta_lpdf(vector x, real a, real b) {
+    real s = 0;
+    for (k in 1:rows(x)) s += a * log_inv_logit(x[k]) + b * log1m_inv_logit(x[k]);
+    return s - rows(x) * lbeta(a, b);
+  }
+
   /* log |d inv_logit(x) / dx| summed, log inv_logit(x) + log(1 - inv_logit(x)):
    * the change of variables to a (0, 1) parameter from its logit (and to
    * phi = 2 inv_logit(x) - 1, less the constant log 2). */
@@ -204,15 +218,17 @@ transformed parameters {
   vector[ar * K] phi = 2 * inv_logit(head(tail(u, (ar + shifts) * K), ar * K)) - 1; // AR(1)
   vector[shifts * K] lambda_shift = exp(tail(u, shifts * K)); // each output's month-shift precision
   vector[q] tf = linear_box_lp(tf_u, tf_edge);
-  vector[p * K] beta_delta = -4 * log(rho_delta);
+  vector[p * K] beta_delta = -4 * log_inv_logit(segment(u, q + 1, p * K));
 }
 model {
   int at_cell = 0;  // the first row of output k's cells in gram_uu, less 1
   vector[2 * pc] wv = basis_components(tf, tc, w_coef, w_beta, w_s2, w_nug, w_alpha, w_Ki);
-  // the change of variables from u (phi's prior is uniform on (-1, 1))
-  target += logit_jacobian(segment(u, q + 1, p * K)) + sum(segment(u, q + p * K + 1, 2 * K))
+  // rho_delta's prior with its change of variables from u; the others' change
+  // of variables from u (phi's prior is uniform on (-1, 1))
+  target += logit_beta_lpdf(segment(u, q + 1, p * K) | rho_delta_a, rho_delta_b)
+            + sum(segment(u, q + p * K + 1, 2 * K))
             + logit_jacobian(head(tail(u, (ar + shifts) * K), ar * K)) + sum(tail(u, shifts * K));
-  // priors of the calibration parameters, the discrepancy and the noise
+  // priors of the calibration parameters, the discrepancy's precision and the noise
 #include /include/koh_stage2_priors.stan
   target += gamma_lpdf(lambda_shift | lambda_shift_shape, lambda_shift_rate);
   for (k in 1:K) {

@@ -214,6 +214,30 @@ test_that("stage 2 with the additive discrepancy has the log density of its dens
   }
 })
 
+
+test_that("past its length scales' floor the additive discrepancy's density is rho's prior tail, finite", {
+  skip_on_cran()
+  withr::local_seed(24)
+  d <- random_grid_data(n = 9, runs = 8, extra = 2)
+  priors <- koh_priors(rho_delta = c(1, 0.3))
+  basis <- bayesbem:::basis_emulator(d, variance = 0.99)
+  emulator <- list(beta_eta = rep(1, d$p + d$q), lambda_eta = 1,
+                   b = numeric(sum(bayesbem:::mean_selection(priors, d$p, d$q))), basis = basis)
+  sd <- bayesbem:::basis_stan_data(d, priors, emulator, bayesbem:::hsgp_design(m = 6, boundary = 3))
+  model <- koh_model_for(sd, "koh_basis")
+  pars <- stage2_pars(list(tf_u = as.array(bayesbem:::linear_box_inverse(rep(0.5, d$q))),
+                           rho_delta = as.array(rep(0.5, sd$p)), lambda_delta = 30, lambda_e = 300,
+                           gamma = as.array(numeric(sd$n_h))))
+  u <- as.numeric(sd$u_offset) + drop(sd$u_scale %*% as.numeric(bayesbem:::basis_z(pars, sd)))
+  # z where input 1's logit(rho_delta) is x: at x = 40, rho rounds to 1
+  z_at <- function(x) drop(solve(sd$u_scale, replace(u, d$q + 1, x) - as.numeric(sd$u_offset)))
+  lp <- vapply(c(30, 40), function(x) rstan::log_prob(model, z_at(x)), numeric(1))
+  expect_true(all(is.finite(lp)))
+  expect_true(all(is.finite(rstan::grad_log_prob(model, z_at(40)))))
+  # the likelihood no longer moves (beta_delta ~ 4 e^-x under the floor 0.08), and
+  # Beta(1, b)'s density in x falls as b log(1 - inv_logit(x)) ~ -b x
+  expect_equal(lp[2] - lp[1], -10 * 0.3, tolerance = 1e-6)
+})
 test_that("stage 2 with AR(1) noise has the log density of its dense model", {
   skip_on_cran()
   withr::local_seed(24)
