@@ -15,11 +15,11 @@
 #' @param chains,iter Number of Markov chains and iterations per chain
 #'   (including warm-up). By default 4000 iterations; for a modular fit of
 #'   more than 36 field rows 2000 with the separable emulator and 3000 with
-#'   the basis emulator and the product discrepancy; 1000 with the additive
+#'   the basis emulator and the product discrepancy; 2000 with the additive
 #'   discrepancy (see `discrepancy_kernel` and `control`).
 #' @param warmup Warm-up iterations per chain; defaults to half of `iter`,
 #'   except in the defaults of a basis fit: 1000 of its 3000 iterations
-#'   with the product discrepancy, 500 of 1000 with the additive one.
+#'   with the product discrepancy, 500 of 2000 with the additive one.
 #' @param seed Random seed; by default one is drawn and stored in the result
 #'   so the fit can be repeated.
 #' @param cores Number of chains run at once, each in its own process. By
@@ -107,9 +107,12 @@
 #'   input, within 0.025 of the kernel's variance, so that a gradient's
 #'   cost does not grow with the rows (`bench/results/gradient.md`). Needs the
 #'   basis emulator and periods of one length. `"auto"`
-#'   (the default) is `"additive"` above 400 field rows (in the largest
-#'   output) when it can be, `"product"` otherwise: the posteriors agree
-#'   where both run (`bench/results/discrepancy-kernel.md`). A sum
+#'   (the default) is, where both apply, the one whose fit is predicted to
+#'   cost less: `"additive"` from about 160 rows of three inputs (a year of
+#'   days, of hours), `"product"` below and wherever the additive one does
+#'   not apply (monthly bills, periods of different lengths). Where both
+#'   run, their posteriors and held-out intervals agree
+#'   (`bench/results/discrepancy-kernel.md`). A sum
 #'   cannot hold an effect of two inputs together (a load of weekend
 #'   hours alone), which then biases the parameters: give such a
 #'   combination as an input of its own, as the hourly simulators'
@@ -416,12 +419,13 @@ fit_stage1 <- function(data, priors, seed, on_failure, emulator) {
 # inst/notes/decisions/G2-runs-where-the-posterior-lies.md and
 # F5-a-linear-scale-for-tf-in.md). The additive discrepancy's chains
 # start at a mode (mode_start()) and sample through the Laplace
-# approximation at one (laplace_map()), so 500 + 500 iterations, a first
-# metric after 50 (not 100) and trees of at most 2^8 steps
-# (bench/results/year-hours.md).
+# approximation at one (laplace_map()), so a warm-up of 500 iterations, a
+# first metric after 50 (not 100) and trees of at most 2^8 steps
+# (bench/results/year-hours.md); 1500 draws a chain, as a year of days mixes
+# more slowly than a year of hours (bench/results/reliability.md).
 default_sampling <- function(modular, n, emulator = "separable", kernel = "product") {
   if (kernel == "additive") {
-    return(list(iter = 1000L, warmup = 500L,
+    return(list(iter = 2000L, warmup = 500L,
                 control = list(adapt_delta = 0.95, metric = "dense_e", max_treedepth = 8L,
                                adapt_init_buffer = 25L)))
   }
@@ -573,19 +577,19 @@ available_memory <- function() {
   as.numeric(gsub("[^0-9]", "", line)) * 1024
 }
 
-# discrepancy_kernel = "auto": the product kernel of the paper up to
-# `additive_rows` rows of the largest output, where its n x n factor is
-# cheap (a year of daily data: the size the reliability benchmark and the
-# real bills measure it at); "additive" above, where that factor grows as
-# n^3, when the fit can take it. "additive" (the Hilbert-space
-# approximation, R/gp-hsgp.R) needs the basis emulator and periods of one
-# length within each output (its noise a multiple of the identity).
+# discrepancy_kernel = "auto": where both kernels apply (the basis
+# emulator, periods of one length within each output) their posteriors and
+# held-out intervals agree (bench/results/discrepancy-kernel.md, from 50
+# training days up), so the one whose fit costs less (fit_size() at the
+# defaults' iterations): the product's factor grows as n^3 in the rows,
+# the additive one's is of its basis functions and components at any n
+# (R/gp-hsgp.R). Elsewhere the paper's product kernel.
 choose_discrepancy_kernel <- function(kernel, emulator, data, call = rlang::caller_env()) {
   unequal <- vapply(output_data(data), function(d) diff(range(noise_weights(d))) > 1e-12,
                     logical(1))
   if (kernel == "auto") {
-    large <- largest_output(data) > additive_rows && emulator == "basis" && !any(unequal)
-    return(if (large) "additive" else "product")
+    both <- emulator == "basis" && !any(unequal)
+    return(if (both && additive_cheaper(data)) "additive" else "product")
   }
   if (kernel != "additive") {
     return("product")
@@ -603,7 +607,15 @@ choose_discrepancy_kernel <- function(kernel, emulator, data, call = rlang::call
   "additive"
 }
 
-additive_rows <- 400L
+# The additive discrepancy's fit predicted to cost less than the product's,
+# each at its default iterations (a modular fit on a grid).
+additive_cheaper <- function(data) {
+  hours <- vapply(c("additive", "product"), function(kernel) {
+    iter <- default_sampling(TRUE, largest_output(data), "basis", kernel)$iter
+    fit_size(data, "grid", TRUE, iter, kernel)$hours
+  }, numeric(1))
+  hours[["additive"]] < hours[["product"]]
+}
 
 # noise_correlation = "auto": "ar1" where it applies, the additive
 # discrepancy over rows with times of which some follow one another (meter

@@ -252,7 +252,7 @@ test_that("default sampling depends on the kind of fit and the data size", {
                     control = list(adapt_delta = 0.95, metric = "dense_e")))
   expect_equal(bayesbem:::default_sampling(TRUE, 36, "basis"), careful)
   expect_equal(bayesbem:::default_sampling(TRUE, 8760, "basis", "additive"),
-               list(iter = 1000L, warmup = 500L,
+               list(iter = 2000L, warmup = 500L,
                     control = list(adapt_delta = 0.95, metric = "dense_e", max_treedepth = 8L,
                                    adapt_init_buffer = 25L)))
 })
@@ -442,9 +442,20 @@ test_that("the additive discrepancy needs the basis emulator and periods of one 
   d <- random_grid_data(n = 9, runs = 8, extra = 2)
   expect_identical(bayesbem:::choose_discrepancy_kernel("additive", "basis", d), "additive")
   expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", d), "product")
-  # "auto": additive above 400 rows, with the basis emulator and equal periods
+  # "auto", with the basis emulator and equal periods: the kernel whose fit
+  # costs less, each at its default iterations, seconds per gradient times
+  # the cube of what it factors (fit_cost): the product's n rows against
+  # the additive one's 40 basis functions per input (two here) and 10
+  # components
+  cost <- bayesbem:::fit_cost$seconds_per_cubed_row
+  iter <- function(kernel) bayesbem:::default_sampling(TRUE, 500L, "basis", kernel)$iter
+  crossover <- (40 * 2 + 10) *
+    (iter("additive") * cost[["additive"]] / (iter("product") * cost[["stage2"]]))^(1 / 3)
+  below <- random_grid_data(n = floor(crossover) - 2, runs = 3)
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", below), "product")
+  above <- random_grid_data(n = ceiling(crossover) + 2, runs = 3)
+  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", above), "additive")
   big <- random_grid_data(n = 401, runs = 3)
-  expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", big), "additive")
   expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "separable", big), "product")
   bills <- random_grid_data(n = 401, runs = 3, days = TRUE)
   expect_identical(bayesbem:::choose_discrepancy_kernel("auto", "basis", bills), "product")
