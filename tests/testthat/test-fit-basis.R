@@ -214,7 +214,6 @@ test_that("stage 2 with the additive discrepancy has the log density of its dens
   }
 })
 
-
 test_that("past its length scales' floor the additive discrepancy's density is rho's prior tail, finite", {
   skip_on_cran()
   withr::local_seed(24)
@@ -238,6 +237,7 @@ test_that("past its length scales' floor the additive discrepancy's density is r
   # Beta(1, b)'s density in x falls as b log(1 - inv_logit(x)) ~ -b x
   expect_equal(lp[2] - lp[1], -10 * 0.3, tolerance = 1e-6)
 })
+
 test_that("stage 2 with AR(1) noise has the log density of its dense model", {
   skip_on_cran()
   withr::local_seed(24)
