@@ -232,12 +232,31 @@ convert_model <- function(path, dir, to, label = "{.file {basename(path)}}",
   out <- tempfile("eplus-convert-")
   dir.create(out)
   input <- plain_file(path, out)
+  key <- conversion_key(input, dir, to)
+  if (!is.null(the_conversions[[key]]) && file.exists(the_conversions[[key]])) {
+    unlink(out, recursive = TRUE)
+    return(the_conversions[[key]])
+  }
   result <- run_energyplus(dir, c("--convert-only", "-d", out, input), out, timeout = 120)
   converted <- file.path(out, paste0(tools::file_path_sans_ext(basename(input)), ".", to))
   if (!result$ok || !file.exists(converted)) {
     abort_eplus_errors(result, "EnergyPlus rejected {label}.", call = call)
   }
+  the_conversions[[key]] <- converted
   converted
+}
+
+# A conversion depends only on the file's contents, the format asked for
+# and the EnergyPlus that converts, and each costs EnergyPlus's start-up:
+# making a simulator converts its model at both ends of the ranges, and the
+# same model is made into several simulators. The session keeps each
+# converted file under that key (failures are not kept).
+the_conversions <- new.env(parent = emptyenv())
+
+conversion_key <- function(input, dir, to) {
+  exe <- normalizePath(eplus_exe(dir))
+  paste(unname(tools::md5sum(input)), to, exe, format(as.numeric(file.mtime(exe)), digits = 15),
+        sep = "|")
 }
 
 # Whether an IDF has HVACTemplate objects (comments left out).

@@ -58,3 +58,25 @@ test_that("relative file names are resolved from the model's folder", {
   expect_equal(eplus_get(back, "Schedule:File", "Always On File", "File Name"),
                normalizePath(file.path(folder, "on.csv")))
 })
+
+test_that("a file's conversion is kept for the session, keyed on its contents", {
+  skip_if_no_eplus()
+  dir <- eplus_path()
+  model <- seb_model()
+  path <- withr::local_tempfile(fileext = ".epJSON")
+  write_epjson(model$json, path)
+  first <- convert_model(path, dir, "idf")
+  # the same contents at another path: the file converted before
+  copy <- withr::local_tempfile(fileext = ".epJSON")
+  file.copy(path, copy)
+  expect_identical(convert_model(copy, dir, "idf"), first)
+  # other contents are converted afresh, and so is a kept file since removed
+  write_epjson(eplus_set(model, "Lights", "AllLights", `Watts per Floor Area` = 9)$json, copy)
+  other <- convert_model(copy, dir, "idf")
+  expect_false(identical(other, first))
+  expect_false(identical(readLines(other), readLines(first)))
+  unlink(first)
+  again <- convert_model(path, dir, "idf")
+  expect_false(identical(again, first))
+  expect_true(file.exists(again))
+})
