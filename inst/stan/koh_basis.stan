@@ -47,20 +47,11 @@ functions {
    * computed from x: where the likelihood is flat in rho (an additive
    * discrepancy's length scale past its floor) x reaches 30 and more, where
    * 1 - rho computed from rho is lost to rounding and Beta's density at rho
-   * diverges. */
+   * diverges. With a = b = 1 it is the change of variables alone. */
   real logit_beta_lpdf(vector x, real a, real b) {
     real s = 0;
     for (k in 1:rows(x)) s += a * log_inv_logit(x[k]) + b * log1m_inv_logit(x[k]);
     return s - rows(x) * lbeta(a, b);
-  }
-
-  /* log |d inv_logit(x) / dx| summed, log inv_logit(x) + log(1 - inv_logit(x)):
-   * the change of variables to a (0, 1) parameter from its logit (and to
-   * phi = 2 inv_logit(x) - 1, less the constant log 2). */
-  real logit_jacobian(vector x) {
-    real s = 0;
-    for (k in 1:rows(x)) s += log_inv_logit(x[k]) + log1m_inv_logit(x[k]);
-    return s;
   }
 
   /* The log variance of each basis function's coefficient in the additive
@@ -224,10 +215,11 @@ model {
   int at_cell = 0;  // the first row of output k's cells in gram_uu, less 1
   vector[2 * pc] wv = basis_components(tf, tc, w_coef, w_beta, w_s2, w_nug, w_alpha, w_Ki);
   // rho_delta's prior with its change of variables from u; the others' change
-  // of variables from u (phi's prior is uniform on (-1, 1))
+  // of variables from u ((phi + 1) / 2 ~ Beta(1, 1): phi uniform on (-1, 1))
   target += logit_beta_lpdf(segment(u, q + 1, p * K) | rho_delta_a, rho_delta_b)
             + sum(segment(u, q + p * K + 1, 2 * K))
-            + logit_jacobian(head(tail(u, (ar + shifts) * K), ar * K)) + sum(tail(u, shifts * K));
+            + logit_beta_lpdf(head(tail(u, (ar + shifts) * K), ar * K) | 1, 1)
+            + sum(tail(u, shifts * K));
   // priors of the calibration parameters, the discrepancy's precision and the noise
 #include /include/koh_stage2_priors.stan
   target += gamma_lpdf(lambda_shift | lambda_shift_shape, lambda_shift_rate);
