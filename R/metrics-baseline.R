@@ -75,6 +75,7 @@ towt_baseline <- function(field, knots = celsius(c(40, 55, 65, 80, 90)),
     stats::lm(y ~ ., data = towt_frame(field[rows, ], week_hour[rows], knots[[m]]))
   })
   names(models) <- names(modes)
+  check_towt_residuals(models)
   residuals <- numeric(nrow(field))
   for (m in names(models)) residuals[mode == (m == "occupied")] <- stats::residuals(models[[m]])
   p <- sum(vapply(models, function(fit) fit$rank, integer(1)))
@@ -217,6 +218,20 @@ check_towt_table <- function(d, cols, arg = rlang::caller_arg(d), call = rlang::
 }
 
 # New rows may only be at hours of the week the mode's model was fitted on.
+# A mode whose regression has as many terms as hours (one week of
+# training: one hour per indicator) fits them exactly, leaving no residual
+# to estimate its uncertainty from.
+check_towt_residuals <- function(models, call = rlang::caller_env()) {
+  left <- vapply(models, stats::df.residual, numeric(1))
+  if (any(left < 1)) {
+    m <- names(models)[left < 1][1]
+    abort_bayesbem(c("The baseline's {m} hours are fewer than its terms: the regression fits them exactly and leaves no residual to estimate its uncertainty from.",
+                     x = "{nrow(models[[m]]$model)} {m} hours for {models[[m]]$rank} terms (one per hour of the week and the temperature segments).",
+                     i = "Train on more than one week of every hour of the week; M&V practice takes a year."),
+                   "too_few_rows", call = call)
+  }
+}
+
 check_hours_seen <- function(hour, model, mode, call = rlang::caller_env()) {
   seen <- model$xlevels$hour
   unseen <- setdiff(as.character(unique(hour)), seen)

@@ -99,6 +99,10 @@ test_that("the TOWT baseline refuses what it cannot use, saying why", {
   expect_error(towt_baseline(bad), "POSIXct", class = "bayesbem_error_columns")
   expect_error(towt_baseline(d[c(2, 1, 3:10), ]), "Row 2", class = "bayesbem_error_periods")
   expect_error(towt_baseline(d, knots = c(20, 10)), class = "bayesbem_error_argument")
+  # one week: an indicator per hour, fitted exactly
+  week <- d[seq_len(168), c("y", "temp", "time")]
+  expect_snapshot(towt_baseline(week, occupancy = "all"), error = TRUE)
+  expect_error(towt_baseline(week), class = "bayesbem_error_too_few_rows")
   # a weekday-only training set cannot predict a weekend
   weekdays <- d[as.integer(format(d$time, "%u")) <= 5, ]
   baseline <- towt_baseline(weekdays)

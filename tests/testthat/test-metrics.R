@@ -113,8 +113,9 @@ test_that("the calibrated simulator and the TOWT baseline are scored on the same
   use <- simulate_design(sim, as.data.frame(truth))$eta
   noisy <- use + withr::with_seed(test_seed(4), stats::rnorm(length(use), 0, 0.05))
   hours <- sim$periods$start
-  # train on a week of January, hold out two weeks over the month's end
-  train <- which(hours >= as.POSIXct("2013-01-14", tz = "Etc/GMT+7"))[1] + 0:167
+  # train on two weeks of January (TOWT needs more than one of each hour of
+  # the week), hold out two weeks over the month's end
+  train <- which(hours >= as.POSIXct("2013-01-07", tz = "Etc/GMT+7"))[1] + 0:335
   held <- which(hours >= as.POSIXct("2013-01-25", tz = "Etc/GMT+7"))[1] + 0:335
   pars <- bem_parameters()
   pars <- pars[pars$parameter %in% names(truth), ]
@@ -122,8 +123,9 @@ test_that("the calibrated simulator and the TOWT baseline are scored on the same
   runs <- runs[rep(seq_along(hours), 12) %in% train, ]
   field <- data.frame(y = noisy[train], sim$x[train, ], time = hours[train])
   # (the additive discrepancy predicts a year of hours at a cost linear in them)
-  fit <- suppressWarnings(calibrate(field, runs, chains = 2, seed = test_seed(5),
-                                    discrepancy_kernel = "additive", progress = FALSE))
+  fit <- suppressWarnings(calibrate(field, runs, chains = 2, iter = 1000, warmup = 500,
+                                    seed = test_seed(5), discrepancy_kernel = "additive",
+                                    progress = FALSE))
   baseline <- towt_baseline(field)
   obs <- rep(NA_real_, length(hours))
   obs[held] <- noisy[held]
@@ -142,7 +144,9 @@ test_that("the calibrated simulator and the TOWT baseline are scored on the same
   rows <- predict(baseline, data.frame(temp = sim$x$temp[held], time = hours[held]))
   expect_equal(table$cvrmse[2], cvrmse(noisy[held], rows$mean))
   expect_equal(table$coverage[2], mean(noisy[held] >= rows$q5 & noisy[held] <= rows$q95))
-  # the simulator at the truth's neighbourhood covers most held-out hours
+  # the simulator at the truth's neighbourhood covers most held-out hours,
+  # and so does the baseline's t interval
   expect_gt(table$coverage[1], 0.7)
+  expect_gt(table$coverage[2], 0.7)
   expect_error(compare_baseline(fit, fit, sim, obs), class = "bayesbem_error_argument")
 })
