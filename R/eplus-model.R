@@ -25,7 +25,9 @@
 #' File names in the model (`Schedule:File`, window data files) that are
 #' relative are resolved from the model's own folder when it is read, so the
 #' model runs from anywhere. Field values are checked by EnergyPlus itself
-#' when the model is run or turned into a simulator.
+#' when the model is run or turned into a simulator. Each conversion is kept
+#' for the R session under the file's contents, so a model read again, or a
+#' simulator made again from the same model, does not wait on EnergyPlus.
 #'
 #' @param path Path of an `.idf` or `.epJSON` file (or `.idf.gz`).
 #' @param eplus Directory of EnergyPlus, see [eplus_path()].

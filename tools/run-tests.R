@@ -11,6 +11,10 @@ shared_eplus <- file.path("..", "shared", "energyplus")
 if (!nzchar(Sys.getenv("BAYESBEM_EPLUS")) && dir.exists(shared_eplus)) {
   Sys.setenv(BAYESBEM_EPLUS = normalizePath(shared_eplus))
 }
+# Two test processes (testthat's parallel mode), the longest files first
+# (DESCRIPTION's Config/testthat/start-first) so that neither waits on the
+# other at the end; TESTTHAT_PARALLEL=false runs them in this process.
+if (!nzchar(Sys.getenv("TESTTHAT_PARALLEL"))) Sys.setenv(TESTTHAT_PARALLEL = "true")
 filter <- commandArgs(trailingOnly = TRUE)[1]
 results <- testthat::test_dir("tests/testthat", filter = if (!is.na(filter)) filter,
                               package = "bayesbem",
