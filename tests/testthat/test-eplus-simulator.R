@@ -216,10 +216,13 @@ test_that("Morris screening, a Latin hypercube, calibration and the closed loop 
   fit <- suppressWarnings(calibrate(field, table, chains = 1, iter = 300, seed = test_seed(3), refresh = 0),
                           classes = "bayesbem_warning_convergence")
   expect_setequal(summary(fit)$parameters$variable, top)
-  check <- validate_emulator(fit, sim, ndraws = 4)
+  # the same draws' runs: posterior_simulate() reads validate_emulator()'s
+  # from the cache, which holds them under their parameter values
+  cache <- withr::local_tempdir()
+  check <- validate_emulator(fit, sim, ndraws = 4, cache_dir = cache)
   expect_equal(nrow(check$table), 4 * 12)
   expect_type(check$trusted, "logical")
-  real <- posterior_simulate(fit, sim, ndraws = 4, summary = FALSE)
+  real <- posterior_simulate(fit, sim, ndraws = 4, summary = FALSE, cache_dir = cache)
   expect_equal(colMeans(real), colMeans(matrix(check$table$simulated, nrow = 4, byrow = TRUE)),
                ignore_attr = TRUE)
 })
