@@ -231,14 +231,14 @@ named_fields <- function(..., call = rlang::caller_env()) {
 convert_model <- function(path, dir, to, label = "{.file {basename(path)}}",
                           call = rlang::caller_env()) {
   label <- cli::format_inline(label)
+  key <- conversion_key(path, dir, to)
+  kept <- the_conversions[[key]]
+  if (!is.null(kept) && file.exists(kept)) {
+    return(kept)
+  }
   out <- tempfile("eplus-convert-")
   dir.create(out)
   input <- plain_file(path, out)
-  key <- conversion_key(input, dir, to)
-  if (!is.null(the_conversions[[key]]) && file.exists(the_conversions[[key]])) {
-    unlink(out, recursive = TRUE)
-    return(the_conversions[[key]])
-  }
   result <- run_energyplus(dir, c("--convert-only", "-d", out, input), out, timeout = 120)
   converted <- file.path(out, paste0(tools::file_path_sans_ext(basename(input)), ".", to))
   if (!result$ok || !file.exists(converted)) {
@@ -248,16 +248,17 @@ convert_model <- function(path, dir, to, label = "{.file {basename(path)}}",
   converted
 }
 
-# A conversion depends only on the file's contents, the format asked for
+# A conversion depends only on the file's contents (a `.gz` file's
+# compressed ones: the lookup decompresses nothing), the format asked for
 # and the EnergyPlus that converts, and each costs EnergyPlus's start-up:
 # making a simulator converts its model at both ends of the ranges, and the
 # same model is made into several simulators. The session keeps each
 # converted file under that key (failures are not kept).
 the_conversions <- new.env(parent = emptyenv())
 
-conversion_key <- function(input, dir, to) {
+conversion_key <- function(path, dir, to) {
   exe <- normalizePath(eplus_exe(dir))
-  paste(unname(tools::md5sum(input)), to, exe, format(as.numeric(file.mtime(exe)), digits = 15),
+  paste(unname(tools::md5sum(path)), to, exe, format(as.numeric(file.mtime(exe)), digits = 15),
         sep = "|")
 }
 

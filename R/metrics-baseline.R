@@ -217,7 +217,6 @@ check_towt_table <- function(d, cols, arg = rlang::caller_arg(d), call = rlang::
   check_numeric_complete(d, setdiff(cols, "time"), arg, call = call)
 }
 
-# New rows may only be at hours of the week the mode's model was fitted on.
 # A mode whose regression has as many terms as hours (one week of
 # training: one hour per indicator) fits them exactly, leaving no residual
 # to estimate its uncertainty from.
@@ -232,6 +231,7 @@ check_towt_residuals <- function(models, call = rlang::caller_env()) {
   }
 }
 
+# New rows may only be at hours of the week the mode's model was fitted on.
 check_hours_seen <- function(hour, model, mode, call = rlang::caller_env()) {
   seen <- model$xlevels$hour
   unseen <- setdiff(as.character(unique(hour)), seen)
