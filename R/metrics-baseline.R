@@ -75,7 +75,7 @@ towt_baseline <- function(field, knots = celsius(c(40, 55, 65, 80, 90)),
     stats::lm(y ~ ., data = towt_frame(field[rows, ], week_hour[rows], knots[[m]]))
   })
   names(models) <- names(modes)
-  check_towt_residuals(models)
+  check_towt_residuals(models, one_mode = occupancy == "all")
   residuals <- numeric(nrow(field))
   for (m in names(models)) residuals[mode == (m == "occupied")] <- stats::residuals(models[[m]])
   p <- sum(vapply(models, function(fit) fit$rank, integer(1)))
@@ -220,12 +220,14 @@ check_towt_table <- function(d, cols, arg = rlang::caller_arg(d), call = rlang::
 # A mode whose regression has as many terms as hours (one week of
 # training: one hour per indicator) fits them exactly, leaving no residual
 # to estimate its uncertainty from.
-check_towt_residuals <- function(models, call = rlang::caller_env()) {
+check_towt_residuals <- function(models, one_mode = FALSE, call = rlang::caller_env()) {
   left <- vapply(models, stats::df.residual, numeric(1))
   if (any(left < 1)) {
     m <- names(models)[left < 1][1]
-    abort_bayesbem(c("The baseline's {m} hours are fewer than its terms: the regression fits them exactly and leaves no residual to estimate its uncertainty from.",
-                     x = "{nrow(models[[m]]$model)} {m} hours for {models[[m]]$rank} terms (one per hour of the week and the temperature segments).",
+    # with occupancy = "all" there is no mode to name
+    hours <- if (one_mode) "hours" else paste(m, "hours")
+    abort_bayesbem(c("The baseline's {hours} are fewer than its terms: the regression fits them exactly and leaves no residual to estimate its uncertainty from.",
+                     x = "{nrow(models[[m]]$model)} {hours} for {models[[m]]$rank} terms (one per hour of the week and the temperature segments).",
                      i = "Train on more than one week of every hour of the week; M&V practice takes a year."),
                    "too_few_rows", call = call)
   }
