@@ -55,17 +55,17 @@ building_type <- function(type, call = rlang::caller_env()) {
 }
 
 # The loads of a building type (bem_parameters(type =)), so that at their
-# initial values the embedded model uses the type's typical TM46
-# electricity: lighting at the type's 90.1-2004 allowance, in use its
+# initial values the embedded model uses `electricity` (kWh/m2 a year; by
+# default the type's typical TM46 electricity): lighting at the type's 90.1-2004 allowance, in use its
 # share type_lighting_share() of the hours, and equipment (the case study's
 # mean share in use, 0.7) the rest, at least a quarter of it. Ranges: the
 # lighting from half the allowance (an LED refit) to one and a half times
 # (older lamps); the equipment from a tenth to one and a half times the
 # benchmark's whole mean power in use, so that the prior spans meters well
 # below and above the benchmark.
-type_loads <- function(type, call = rlang::caller_env()) {
+type_loads <- function(type, electricity = NULL, call = rlang::caller_env()) {
   row <- building_type(type, call = call)
-  power <- row$electricity / 8.76
+  power <- (electricity %||% row$electricity) / 8.76
   equipment <- max(power - type_lighting_share(type) * row$lighting, 0.25 * power) / 0.7
   data.frame(parameter = c("equipment_power_density", "lighting_power_density"),
              initial = c(equipment, row$lighting),

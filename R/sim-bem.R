@@ -17,8 +17,18 @@
 #' benchmark's mean power in use. The other parameters are the case
 #' study's.
 #'
+#' A building that uses far more or less than its type's benchmark (a
+#' laboratory wing, a data room, a half-empty block) lies outside those
+#' ranges; `electricity`, its metered use per m2 of floor, takes the
+#' benchmark's place, so that the loads start at and range around what the
+#' meter says (the lighting allowance stays the type's).
+#'
 #' @param type A building type of [bem_building_types()] (e.g.
 #'   `"university"`), or `NULL` (the default): the case study's loads.
+#' @param electricity With `type`, the building's annual electricity per m2
+#'   of floor (kWh/m2, e.g. a year's meter total over the floor area) to
+#'   centre the loads on, in place of the type's benchmark; `NULL` (the
+#'   default): the benchmark.
 #' @return A data frame with 14 rows and columns `parameter`, `initial`,
 #'   `min`, `max`, `unit`, `description`.
 #' @family simulation
@@ -26,7 +36,8 @@
 #' @examples
 #' bem_parameters()
 #' bem_parameters(type = "office")[12:13, ]
-bem_parameters <- function(type = NULL) {
+#' bem_parameters(type = "laboratory", electricity = 450)[12:13, ]
+bem_parameters <- function(type = NULL, electricity = NULL) {
   table <- data.frame(
     parameter = c("cooling_setpoint", "heating_setpoint", "fan_total_efficiency",
                   "fan_motor_efficiency", "dx_cooling_cop", "gas_burner_efficiency",
@@ -44,10 +55,18 @@ bem_parameters <- function(type = NULL) {
                     "roof density multiplier", "electric equipment power density",
                     "lighting power density", "infiltration per exterior surface area")
   )
+  if (!is.null(electricity)) {
+    if (is.null(type)) {
+      abort_bayesbem(c("{.arg electricity} needs a {.arg type}: the loads it centres are a type's.",
+                       i = "E.g. {.code bem_parameters(type = \"university\", electricity = 300)}."),
+                     "argument")
+    }
+    check_number(electricity, "argument", positive = TRUE)
+  }
   if (is.null(type)) {
     return(table)
   }
-  loads <- type_loads(type)
+  loads <- type_loads(type, electricity)
   at <- match(loads$parameter, table$parameter)
   table[at, c("initial", "min", "max")] <- loads[c("initial", "min", "max")]
   table

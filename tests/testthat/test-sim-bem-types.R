@@ -26,6 +26,21 @@ test_that("a type's loads start and range around its benchmark", {
   expect_error(bem_parameters(type = "ofice"), "Did you mean", class = "bayesbem_error_argument")
 })
 
+test_that("a metered electricity takes the benchmark's place", {
+  campus <- bem_parameters(type = "university")
+  lab <- bem_parameters(type = "university", electricity = 400)
+  at <- match(c("equipment_power_density", "lighting_power_density"), lab$parameter)
+  lit <- bem_building_facts(1000, type = "university")$lighting_fraction
+  # the lighting allowance stays the type's, the equipment draws the rest
+  expect_equal(lab[at[2], ], campus[at[2], ])
+  expect_equal(lit * lab$initial[at[2]] + 0.7 * lab$initial[at[1]], 400 / 8.76)
+  expect_equal(lab$max[at[1]], 1.5 * 400 / 8.76 / 0.7)
+  expect_equal(bem_parameters(type = "university", electricity = 80), campus)
+  expect_error(bem_parameters(electricity = 400), "needs a", class = "bayesbem_error_argument")
+  expect_error(bem_parameters(type = "office", electricity = "400"), "positive number",
+               class = "bayesbem_error_argument")
+})
+
 test_that("a type's prior spans its benchmark's electricity", {
   # a ventilation-only fan (1 l/s per m2), as in most uncooled campuses
   area <- 5000
