@@ -19,7 +19,10 @@
 #'   capacity `C_m` of [bem_monthly()];
 #' * heating or cooling power (unlimited, on the air node) where the free
 #'   air temperature leaves the set points, just enough to hold it at
-#'   the set point (C.4.2: the air temperature is linear in that power).
+#'   the set point (C.4.2: the air temperature is linear in that power);
+#'   the heating's set point follows the building's `heating_schedule`
+#'   (off hours at its `heating_setback`), so that a plant on a timer
+#'   reheats the cooled building each morning.
 #'
 #' Lights and equipment follow the building's `occupancy` by hour of week,
 #' on its `clock` and with its `holidays` ([bem_building()])
@@ -64,7 +67,7 @@ bem_hourly <- function(parameters, weather, building = bem_building()) {
   # an uncooled building's air floats above the cooling set point
   cooling_setpoint <- if (isTRUE(b$cooling %||% TRUE)) p$cooling_setpoint else Inf
   hvac <- network_hours(k, b$floor_area, weather$temp, internal, k$solar(weather),
-                        p$heating_setpoint, cooling_setpoint)
+                        heating_setpoints(p$heating_setpoint, b)[week_hour], cooling_setpoint)
   out <- bem_meters(k, pmax(hvac$power, 0), pmax(-hvac$power, 0), lights + equipment + k$p_fan, 1)
   out$air_temp <- hvac$air
   out
@@ -82,7 +85,8 @@ schedule_shape <- function(occupancy, fraction) {
 
 # The 5R1C network (ISO 13790 Annex C) hour by hour: the heating (> 0) or
 # cooling (< 0) power on the air node that holds the air between the set
-# points, and the air temperature. `internal` and `solar` gains in W.
+# points (the heating's one per hour), and the air temperature. `internal`
+# and `solar` gains in W.
 network_hours <- function(k, floor_area, temp, internal, solar, heating_setpoint,
                           cooling_setpoint) {
   a_m <- 2.5 * floor_area
@@ -113,7 +117,7 @@ network_hours <- function(k, floor_area, temp, internal, solar, heating_setpoint
   # temperature is linear in it, so a trial at 10 W/m2 finds it (C.4.2)
   hour <- function(i, tm) {
     free <- step(i, tm, 0)
-    target <- min(max(free[2], heating_setpoint), cooling_setpoint)
+    target <- min(max(free[2], heating_setpoint[i]), cooling_setpoint)
     if (target == free[2]) {
       return(c(free, 0))
     }
@@ -123,7 +127,7 @@ network_hours <- function(k, floor_area, temp, internal, solar, heating_setpoint
     c(step(i, tm, phi), phi)
   }
   n <- length(temp)
-  tm <- heating_setpoint
+  tm <- heating_setpoint[1]
   for (warm in seq_len(7)) {
     for (i in seq_len(min(24L, n))) tm <- hour(i, tm)[1]
   }

@@ -95,8 +95,15 @@ bem_parameters <- function(type = NULL, electricity = NULL) {
 #'   whose clock the occupancy follows, e.g. `"Europe/London"`, summer time
 #'   included; `NULL`, the default: the weather file's standard time) and
 #'   `holidays` (`Date`s, in that clock, whose hours follow Sunday's
-#'   occupancy; `NULL`: none). The monthly model uses the mean shares
-#'   only. `cooling`: whether the building is cooled (`FALSE`: no DX coil,
+#'   occupancy; `NULL`: none). `heating_schedule`: when the heating plant
+#'   runs, 168 shares as `occupancy` (1: the heating set point held, 0:
+#'   the plant off and the air held only above `heating_setback`, in C;
+#'   between, the set point that share of the way from the setback), on
+#'   the same clock; `NULL`, the default: around the clock, as the case
+#'   study's. Most non-domestic heating runs on a timer, off at night: a
+#'   gas meter's own winter profile ([meter_occupancy()]) shows its hours.
+#'   The monthly model uses the mean shares, and the set point's mean over
+#'   the week. `cooling`: whether the building is cooled (`FALSE`: no DX coil,
 #'   the air floats above the cooling set point, no cooling electricity;
 #'   most of Europe's older offices and campuses).
 #' @family simulation
@@ -112,7 +119,7 @@ bem_building <- function(...) {
     lighting_fraction = 0.6, equipment_fraction = 0.7, occupant_gain = 200,
     outdoor_air = 0.03, fan_flow = 0.45, fan_pressure = 500, baseboard_share = 0.15,
     occupancy = rep(c(rep(c(rep(0, 7), rep(1, 12), rep(0, 5)), 5), rep(0, 48))),
-    clock = NULL, holidays = NULL, cooling = TRUE
+    clock = NULL, holidays = NULL, cooling = TRUE, heating_schedule = NULL, heating_setback = 12
   )
   changes <- list(...)
   unknown <- setdiff(names(changes), names(defaults))
@@ -121,12 +128,10 @@ bem_building <- function(...) {
                      i = "Known properties: {.field {names(defaults)}}."),
                    "argument")
   }
-  occupancy <- changes$occupancy
-  if (!is.null(occupancy) && (!is.numeric(occupancy) || length(occupancy) != 168L ||
-                              anyNA(occupancy) || any(occupancy < 0 | occupancy > 1))) {
-    abort_bayesbem(c("{.field occupancy} must be 168 shares between 0 and 1, one per hour of the week from Monday 0:00.",
-                     x = "It is {describe_value(occupancy)} of length {length(occupancy)}."),
-                   "argument")
+  check_week_shares(changes$occupancy, "occupancy")
+  check_week_shares(changes$heating_schedule, "heating_schedule")
+  if (!is.null(changes$heating_setback)) {
+    check_between(changes$heating_setback, -50, 30, arg = "heating_setback")
   }
   check_clock(changes$clock, changes$holidays)
   if (!is.null(changes$cooling)) check_bool(changes$cooling, arg = "cooling")
@@ -197,6 +202,25 @@ bem_building_facts <- function(floor_area, floors = 1L, roof_area = floor_area /
   if (!is.null(age)) facts <- utils::modifyList(facts, envelope_of_age(age))
   facts[names(list(...))] <- list(...)
   rlang::inject(bem_building(!!!facts))
+}
+
+# A schedule of bem_building(): 168 shares from 0 to 1 (or NULL).
+check_week_shares <- function(x, field, call = rlang::caller_env()) {
+  if (!is.null(x) && (!is.numeric(x) || length(x) != 168L || anyNA(x) || any(x < 0 | x > 1))) {
+    abort_bayesbem(c("{.field {field}} must be 168 shares between 0 and 1, one per hour of the week from Monday 0:00.",
+                     x = "It is {describe_value(x)} of length {length(x)}."),
+                   "argument", call = call)
+  }
+}
+
+# The heating set point each hour of the week (168 values, C): the
+# parameter's where the plant runs, the building's setback where it is off.
+heating_setpoints <- function(setpoint, building) {
+  on <- building$heating_schedule
+  if (is.null(on)) {
+    return(rep(setpoint, 168L))
+  }
+  building$heating_setback + on * (setpoint - building$heating_setback)
 }
 
 check_clock <- function(clock, holidays, call = rlang::caller_env()) {
@@ -291,7 +315,7 @@ bem_monthly <- function(parameters, weather, building = bem_building()) {
   lights <- k$lights * hours
   equipment <- k$equipment * hours
   gains <- lights + equipment + k$occupants * hours + k$fan_heat * hours + k$solar(weather) * hours
-  loss_heating <- h * (p$heating_setpoint - weather$temp) * hours
+  loss_heating <- h * (mean(heating_setpoints(p$heating_setpoint, b)) - weather$temp) * hours
   loss_cooling <- h * (p$cooling_setpoint - weather$temp) * hours
   heating <- ifelse(loss_heating > 0,
                     pmax(loss_heating - gain_utilisation(gains / loss_heating, a) * gains, 0), 0)

@@ -144,3 +144,36 @@ test_that("schedules follow the building's clock, summer time and holidays", {
   expect_error(bem_building(clock = "Mars/Olympus"), class = "bayesbem_error_argument")
   expect_error(bem_building(holidays = "2013-07-04"), class = "bayesbem_error_argument")
 })
+
+test_that("a heating plant on a timer lets the air fall to its setback and reheats", {
+  p <- initial_params()
+  cold <- constant_weather(168 * 3, temp = -5)
+  # plant on at 6:00-19:59 every day, off otherwise with the air held above 12 C
+  day <- as.numeric(0:23 >= 6 & 0:23 < 20)
+  timer <- bem_building(heating_schedule = rep(day, 7), heating_setback = 12)
+  always <- bem_hourly(p, cold, bem_building())
+  timed <- bem_hourly(p, cold, timer)
+  off <- cold$hour < 6 | cold$hour >= 20
+  last_day <- seq(nrow(cold) - 23, nrow(cold))
+  # the air cools at night, never below the setback, and is held while on
+  expect_true(all(timed$air_temp[off] >= 12 - 1e-9 & timed$air_temp[off] < 18.3))
+  expect_equal(timed$air_temp[last_day][7:20], rep(18.3, 14))
+  # the first hour on reheats the cooled mass, the need then falls as it warms
+  expect_true(all(diff(timed$heating_need[last_day][7:20]) < 0))
+  expect_gt(timed$heating_need[last_day][7], timed$heating_need[last_day][6])
+  expect_lt(sum(timed$heating_need), sum(always$heating_need))
+  # a plant always on, or off with the setback at the set point, is the default
+  expect_equal(bem_hourly(p, cold, bem_building(heating_schedule = rep(1, 168))), always)
+  expect_equal(bem_hourly(p, cold, bem_building(heating_schedule = rep(0, 168),
+                                                heating_setback = 18.3)), always)
+  # the monthly model holds the set point's mean over the week
+  w <- epw_monthly(shipped_epw(2013))
+  mean_setpoint <- 12 + mean(rep(day, 7)) * (18.3 - 12)
+  p_mean <- p
+  p_mean$heating_setpoint <- mean_setpoint
+  expect_equal(bem_monthly(p, w, timer)$heating_need, bem_monthly(p_mean, w)$heating_need)
+  expect_error(bem_building(heating_schedule = rep(1, 24)), "heating_schedule",
+               class = "bayesbem_error_argument")
+  expect_error(bem_building(heating_setback = "12"), "heating_setback",
+               class = "bayesbem_error_argument")
+})
