@@ -30,6 +30,17 @@ archive_meter <- function(b, meter, year) {
   archive_csv(sprintf("building_data/processed_data/UCam_Building_b%s/%s/%s.csv", b, meter, year))
 }
 
+# A building's facts as the archive gives them
+# (building_floor_roof_areas.csv): its gross internal area (m2), floors and
+# approximate roof area (m2).
+archive_facts <- function(b) {
+  refuse_held_out(b)
+  areas <- archive_csv("building_data/processed_data/building_floor_roof_areas.csv")
+  row <- areas[areas[[1]] == paste0("b", b), ]
+  if (nrow(row) != 1L) stop("the archive gives no areas of building ", b, call. = FALSE)
+  list(floor_area = row[[2]], floors = row[[3]], roof_area = row[[4]])
+}
+
 # The Met Office's hourly weather at Bedford for a year, through
 # read_weather() and write_epw(): the EPW file's path. The station stamps
 # each hour by its end, so the year's hours run into the next year's file.

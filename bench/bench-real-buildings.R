@@ -9,15 +9,19 @@
 # in summer), train January-September, predict October-December with the
 # TOWT baseline; hourly and monthly CV(RMSE), NMBE and 90 % coverage of
 # the held-out hours and months, and what the rules left out
-# (bench/results/real-buildings.md). With BENCH_CALIBRATE=true, the
-# electricity is also calibrated: the embedded hourly model of an uncooled
-# building of four floors on London's clock, its occupancy estimated from
-# the training months' readings (meter_occupancy()), its floor area the
-# year's electricity over CIBSE TM46's typical 80 kWh/m2 of a university
-# campus (the archive gives no floor areas), a ventilation-only fan; 30
-# runs over the three parameters that move the electricity most,
-# calibrate()'s defaults on January-September, and compare_baseline() on
-# October-December, with the fit's wall time.
+# (bench/results/real-buildings.md). With BENCH_CALIBRATE=true (or a
+# list of meters, e.g. electricity), each meter is also calibrated on its
+# own: the embedded hourly model of an uncooled building of the archive's
+# floor area, floors and roof area (building_floor_roof_areas.csv) on
+# London's clock, its occupancy estimated from the training months'
+# readings (meter_occupancy()), its heating on the timer its gas meter's
+# winter profile shows (bem_building(heating_schedule =)), a university's loads centred on its
+# metered electricity per m2 (bem_parameters(type =, electricity =)), a
+# ventilation-only fan; 30 runs over the three parameters that move the
+# meter most, calibrate()'s defaults on January-September, and
+# compare_baseline() on October-December, with the fit's wall time; a
+# meter no run reaches is reported with calibrate()'s refusal.
+# BENCH_FITS=<folder> keeps the fits.
 # Buildings 19, 57 and 111 are kept for acceptance and refused here.
 # Usage, from the package root, with bayesbem installed:
 #   BENCH_ARCHIVE=<the archive's git directory or checkout> \
@@ -34,6 +38,10 @@ source(file.path("bench", "archive.R"))
 refuse_held_out(buildings)
 epw <- archive_epw(year)
 sim <- bem_simulator(epw, by = "hour")
+calibrate_meters <- strsplit(Sys.getenv("BENCH_CALIBRATE"), ",")[[1]]
+if (identical(calibrate_meters, "true")) calibrate_meters <- c("electricity", "gas")
+fits_dir <- Sys.getenv("BENCH_FITS")
+if (nzchar(fits_dir)) dir.create(fits_dir, showWarnings = FALSE, recursive = TRUE)
 zone <- "Europe/London"
 held_out <- function(time) as.integer(format(time, "%m", tz = zone)) >= 10L
 
@@ -42,37 +50,77 @@ score <- function(obs, pred, lower, upper) {
     coverage = mean(obs >= lower & obs <= upper))
 }
 
-# The embedded model of building `b` calibrated on its training hours and
-# scored beside the baseline on the held-out ones.
-calibrate_building <- function(b, field, time, use, baseline) {
-  area <- sum(field$y) / 80
+# What each meter's runs vary: the three parameters that move the
+# electricity most; the heating's set point, burner and infiltration.
+varied <- list(electricity = c("equipment_power_density", "lighting_power_density",
+                               "fan_total_efficiency"),
+               gas = c("heating_setpoint", "gas_burner_efficiency",
+                       "infiltration_per_exterior_area"))
+
+# The embedded model of building `b` from the archive's facts, calibrated
+# on one meter's training hours and scored beside the baseline on the
+# held-out ones; a meter no run reaches is reported with calibrate()'s
+# refusal (the measured total and the runs' range) instead.
+calibrate_building <- function(b, meter_name, field, time, use, baseline, intensity) {
+  facts <- archive_facts(b)
   train_time <- field$time[!held_out(field$time)]
   occupancy <- meter_occupancy(train_time, field$y[!held_out(field$time)])
   # a ventilation-only air system, 1 l/s per m2 of floor (10 l/s a person
   # at 10 m2 each), not the case study's all-air 5.7 l/s per m2
-  building <- bem_building_facts(area, floors = 4, clock = zone, cooling = FALSE,
-                                 occupancy = occupancy, fan_flow = 1e-3 * area)
-  meter <- bem_simulator(epw, building = building, by = "hour")
+  building <- bem_building_facts(facts$floor_area, floors = facts$floors,
+                                 roof_area = facts$roof_area, type = "university", clock = zone,
+                                 cooling = FALSE, occupancy = occupancy,
+                                 fan_flow = 1e-3 * facts$floor_area,
+                                 heating_schedule = heating_timer(b))
+  pars <- bem_parameters(type = "university", electricity = intensity)
+  meter <- bem_simulator(epw, parameters = pars, building = building, by = "hour",
+                         output = meter_name)
   # the field's inputs on the building's clock, as its runs'
-  field <- suppressMessages(field_hours(meter, time, use, sufficiency = 0))
-  pars <- bem_parameters()
-  pars <- pars[pars$parameter %in% c("equipment_power_density", "lighting_power_density",
-                                     "fan_total_efficiency"), ]
-  runs <- simulate_design(meter, design_lhs(pars, 30, seed = 1))
+  field <- suppressMessages(field_hours(meter, time, use, rules = meter_rules_of(meter_name),
+                                        sufficiency = 0))
+  runs <- simulate_design(meter, design_lhs(pars[pars$parameter %in% varied[[meter_name]], ], 30,
+                                            seed = 1))
   train <- field[!held_out(field$time), ]
   hours <- match(train$time, meter$periods$start)
   runs <- runs[rep(seq_along(meter$periods$start), 30) %in% hours, ]
+  row <- data.frame(building = b, meter = meter_name, floor_area = round(facts$floor_area),
+                    kwh_per_m2 = round(sum(field$y) / facts$floor_area))
   started <- proc.time()[["elapsed"]]
-  fit <- suppressWarnings(calibrate(train, runs, seed = 1, progress = FALSE))
+  fit <- tryCatch(suppressWarnings(calibrate(train, runs, seed = 1, progress = FALSE)),
+                  bayesbem_error_prior_misses = function(e) e)
   seconds <- proc.time()[["elapsed"]] - started
+  if (inherits(fit, "error")) {
+    cat(sprintf("building %s, %s: %s\n", b, meter_name, cli::ansi_strip(conditionMessage(fit))))
+    return(data.frame(row, prediction = "refused", by = NA, n = NA, cvrmse = NA, nmbe = NA,
+                      coverage = NA, fit_seconds = round(seconds), rhat = NA))
+  }
+  if (nzchar(fits_dir)) saveRDS(fit, file.path(fits_dir, sprintf("b%s-%s.rds", b, meter_name)))
   obs <- rep(NA_real_, length(meter$periods$start))
   test <- field[held_out(field$time), ]
   obs[match(test$time, meter$periods$start)] <- test$y
   table <- compare_baseline(fit, baseline, meter, obs)
-  data.frame(building = b, floor_area = round(area), table[c("prediction", "by", "n")],
+  data.frame(row, table[c("prediction", "by", "n")],
              round(as.data.frame(table)[c("cvrmse", "nmbe", "coverage")], 3),
              fit_seconds = round(seconds),
              rhat = round(max(check_convergence(fit, warn = FALSE)$rhat), 3))
+}
+
+# The heating plant's timer: the hours of the week when the gas meter's
+# mean use in the training winter (January-March) is above a quarter of its
+# range (meter_occupancy()); around the clock without a gas meter.
+heating_timer <- function(b) {
+  gas <- archive_meter(b, "gas", year)
+  if (is.null(gas)) return(NULL)
+  time <- as.POSIXct(gas[[1]], tz = "UTC")
+  attr(time, "tzone") <- zone
+  winter <- as.integer(format(time, "%m", tz = zone)) <= 3L
+  as.numeric(meter_occupancy(time[winter], gas[[2]][winter]) >= 0.25)
+}
+
+# What stands for a missing reading: a gas meter rests in summer, so runs
+# and days of zeros are readings there.
+meter_rules_of <- function(meter) {
+  if (meter == "gas") meter_rules(zero_hours = Inf, zero_days = FALSE) else meter_rules()
 }
 
 calibrated <- list()
@@ -82,7 +130,7 @@ for (b in buildings) {
     readings <- archive_meter(b, meter, year)
     if (is.null(readings)) next
     time <- as.POSIXct(readings[[1]], tz = "UTC")
-    rules <- if (meter == "gas") meter_rules(zero_hours = Inf, zero_days = FALSE) else meter_rules()
+    rules <- meter_rules_of(meter)
     said <- character()
     field <- tryCatch(withCallingHandlers(
       field_hours(sim, time, readings[[2]], rules = rules, sufficiency = 0),
@@ -108,9 +156,11 @@ for (b in buildings) {
       t(round(stats::setNames(score(month_obs, months$mean, months$q5, months$q95),
                               c("m_cvrmse", "m_nmbe", "m_coverage")), 3)),
       seconds = round(proc.time()[["elapsed"]] - started, 1))
-    if (meter == "electricity" && identical(Sys.getenv("BENCH_CALIBRATE"), "true")) {
-      calibrated[[length(calibrated) + 1L]] <- calibrate_building(b, field, time, readings[[2]],
-                                                                  baseline)
+    if (meter == "electricity") intensity <- sum(field$y) / archive_facts(b)$floor_area
+    if (meter %in% calibrate_meters) {
+      calibrated[[length(calibrated) + 1L]] <- calibrate_building(b, meter, field, time,
+                                                                  readings[[2]], baseline,
+                                                                  intensity)
       print(calibrated[[length(calibrated)]], row.names = FALSE)
     }
   }
