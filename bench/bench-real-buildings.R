@@ -65,12 +65,18 @@ calibrate_building <- function(b, meter_name, field, time, use, baseline, intens
   facts <- archive_facts(b)
   train_time <- field$time[!held_out(field$time)]
   occupancy <- meter_occupancy(train_time, field$y[!held_out(field$time)])
+  # the equipment's mean share of its full use, the meter's mean over its
+  # busiest hour of the week: the model's equipment then follows the
+  # meter's profile, base load included (schedule_shape())
+  profile <- tapply(field$y[!held_out(field$time)],
+                    format(train_time, "%u %H", tz = zone), mean)
   # a ventilation-only air system, 1 l/s per m2 of floor (10 l/s a person
   # at 10 m2 each), not the case study's all-air 5.7 l/s per m2
   building <- bem_building_facts(facts$floor_area, floors = facts$floors,
                                  roof_area = facts$roof_area, type = "university", clock = zone,
                                  cooling = FALSE, occupancy = occupancy,
                                  fan_flow = 1e-3 * facts$floor_area,
+                                 equipment_fraction = mean(profile) / max(profile),
                                  heating_schedule = heating_timer(b))
   pars <- bem_parameters(type = "university", electricity = intensity)
   meter <- bem_simulator(epw, parameters = pars, building = building, by = "hour",
@@ -87,7 +93,8 @@ calibrate_building <- function(b, meter_name, field, time, use, baseline, intens
                     kwh_per_m2 = round(sum(field$y) / facts$floor_area))
   started <- proc.time()[["elapsed"]]
   fit <- tryCatch(suppressWarnings(calibrate(train, runs, seed = 1, progress = FALSE)),
-                  bayesbem_error_prior_misses = function(e) e)
+                  bayesbem_error_prior_misses = function(e) e,
+                  bayesbem_error_constant = function(e) e)
   seconds <- proc.time()[["elapsed"]] - started
   if (inherits(fit, "error")) {
     cat(sprintf("building %s, %s: %s\n", b, meter_name, cli::ansi_strip(conditionMessage(fit))))
