@@ -56,13 +56,13 @@ building_type <- function(type, call = rlang::caller_env()) {
 
 # The loads of a building type (bem_parameters(type =)), so that at their
 # initial values the embedded model uses `electricity` (kWh/m2 a year; by
-# default the type's typical TM46 electricity): lighting at the type's 90.1-2004 allowance, in use its
-# share type_lighting_share() of the hours, and equipment (the case study's
-# mean share in use, 0.7) the rest, at least a quarter of it. Ranges: the
-# lighting from half the allowance (an LED refit) to one and a half times
-# (older lamps); the equipment from a tenth to one and a half times the
-# benchmark's whole mean power in use, so that the prior spans meters well
-# below and above the benchmark.
+# default the type's typical TM46 electricity): lighting at the type's
+# 90.1-2004 allowance, in use its share type_lighting_share() of the hours,
+# and equipment (the case study's mean share in use, 0.7) the rest, at
+# least a quarter of it. Ranges: the lighting from half the allowance (an
+# LED refit) to one and a half times (older lamps); the equipment from a
+# tenth to one and a half times that electricity's whole mean power in
+# use, so that the prior spans meters well below and above it.
 type_loads <- function(type, electricity = NULL, call = rlang::caller_env()) {
   row <- building_type(type, call = call)
   power <- (electricity %||% row$electricity) / 8.76

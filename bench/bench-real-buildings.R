@@ -61,8 +61,7 @@ varied <- list(electricity = c("equipment_power_density", "lighting_power_densit
 # on one meter's training hours and scored beside the baseline on the
 # held-out ones; a meter no run reaches is reported with calibrate()'s
 # refusal (the measured total and the runs' range) instead.
-calibrate_building <- function(b, meter_name, field, time, use, baseline, intensity) {
-  facts <- archive_facts(b)
+calibrate_building <- function(b, facts, meter_name, field, time, use, baseline, intensity) {
   train_time <- field$time[!held_out(field$time)]
   occupancy <- meter_occupancy(train_time, field$y[!held_out(field$time)])
   # the equipment's mean share of its full use, the meter's mean over its
@@ -133,6 +132,7 @@ meter_rules_of <- function(meter) {
 calibrated <- list()
 rows <- list()
 for (b in buildings) {
+  facts <- archive_facts(b)
   for (meter in c("electricity", "gas")) {
     readings <- archive_meter(b, meter, year)
     if (is.null(readings)) next
@@ -163,9 +163,9 @@ for (b in buildings) {
       t(round(stats::setNames(score(month_obs, months$mean, months$q5, months$q95),
                               c("m_cvrmse", "m_nmbe", "m_coverage")), 3)),
       seconds = round(proc.time()[["elapsed"]] - started, 1))
-    if (meter == "electricity") intensity <- sum(field$y) / archive_facts(b)$floor_area
+    if (meter == "electricity") intensity <- sum(field$y) / facts$floor_area
     if (meter %in% calibrate_meters) {
-      calibrated[[length(calibrated) + 1L]] <- calibrate_building(b, meter, field, time,
+      calibrated[[length(calibrated) + 1L]] <- calibrate_building(b, facts, meter, field, time,
                                                                   readings[[2]], baseline,
                                                                   intensity)
       print(calibrated[[length(calibrated)]], row.names = FALSE)
