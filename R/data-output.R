@@ -38,7 +38,7 @@ koh_data_one <- function(field, sim, y = NULL, eta = NULL, x = NULL, t = NULL, p
     x_max = apply(rbind(xf_raw, xc_raw), 2, max),
     days = noise_reference(xf_raw)
   )
-  check_varies(scaling$y_scale, cols$eta, "sim", call = call)
+  check_runs_respond(eta_raw, field[[cols$y]], cols$eta, call = call)
   check_units(field[[cols$y]], eta_raw, cols, xf_raw, xc_raw, call = call)
   check_varies(scaling$x_max - scaling$x_min, cols$x, "field and sim together", call = call)
   check_varies(apply(tc_raw, 2, max) - apply(tc_raw, 2, min), cols$t, "sim", call = call)
@@ -313,6 +313,20 @@ shared_input_runs <- function(sim, cols, xf, call = rlang::caller_env()) {
   merged <- sim[!duplicated(group), , drop = FALSE]
   merged[[cols$eta]] <- as.vector(tapply(eta, group, mean))
   merged
+}
+
+# Runs that all give one output: the simulator does not respond to its
+# parameters over their ranges. Where the field differs from that output
+# no setting reaches it, calibrate()'s prior-misses refusal.
+check_runs_respond <- function(eta, y, col, call = rlang::caller_env()) {
+  if (stats::sd(eta) > 0) {
+    return(invisible())
+  }
+  misses <- !isTRUE(all.equal(mean(y), eta[1]))
+  abort_bayesbem(c("Every run gives the same {.field {col}}, {format(signif(eta[1], 4))}: the simulator does not respond to its parameters over their ranges.",
+                   x = if (misses) "The field's mean is {format(signif(mean(y), 4))}: no setting the runs span reaches it.",
+                   i = "Check the building's facts and the output's units (e.g. a heating meter where the model's internal gains cover every loss), widen the parameters' ranges and rerun the design."),
+                 if (misses) "prior_misses" else "constant", call = call)
 }
 
 check_varies <- function(ranges, cols, where, call = rlang::caller_env()) {

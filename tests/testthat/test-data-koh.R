@@ -86,6 +86,15 @@ test_that("bad input gets classed errors that say what to fix", {
   flat_t$equipment_power_density <- 10
   expect_snapshot(koh_data(seb_field, flat_t), error = TRUE)
 
+  # runs that never respond: the field's level is out of reach, not a column to drop
+  flat_eta <- seb_sim
+  flat_eta$eta <- 0
+  expect_error(koh_data(seb_field, flat_eta), class = "bayesbem_error_prior_misses")
+  expect_snapshot(koh_data(seb_field, flat_eta), error = TRUE)
+  both_flat <- seb_field
+  both_flat$y <- 0
+  expect_error(koh_data(both_flat, flat_eta), class = "bayesbem_error_constant")
+
   expect_error(koh_data(seb_field[1, ], seb_sim), class = "bayesbem_error_too_few_rows")
   expect_snapshot(koh_data(seb_field[1, ], seb_sim), error = TRUE)
   expect_error(koh_data(seb_field, seb_sim[1:4, ]), class = "bayesbem_error_too_few_rows")
