@@ -373,32 +373,85 @@ calendar_covariates <- function(simulator, holidays = NULL) {
   as.data.frame(shares)
 }
 
-#' A building's occupancy estimated from its meter
+#' A building's schedules estimated from its meter
 #'
 #' The embedded hourly model's lights, equipment and occupants follow an
-#' occupancy by hour of the week ([bem_building()]). Where the building's
-#' own schedule is unknown, its meter tells it: `meter_occupancy()` takes
-#' the mean use at each hour of the week (on the clock of `time`'s time
-#' zone, summer time included) and scales it to 0 at the quietest hour and
-#' 1 at the busiest, so that the model's schedule has the meter's weekday
-#' and weekend shape.
+#' occupancy by hour of the week, and its heating plant a timer
+#' ([bem_building()]). Where the building's own schedules are unknown, its
+#' meters tell them, from the mean use at each hour of the week (on the
+#' clock of `time`'s time zone, summer time included):
+#'
+#' * `meter_occupancy()` scales that profile to 0 at the quietest hour and
+#'   1 at the busiest, so that the model's schedule has the meter's weekday
+#'   and weekend shape;
+#' * `meter_equipment_fraction()` is the profile's mean over its busiest
+#'   hour, the equipment's mean share of its full use. With both from one
+#'   electricity meter the model's equipment has the meter's profile, its
+#'   base load included; the default share (0.7) would put too much of the
+#'   use in the occupied hours of a building whose base load is low, and the
+#'   calibration then lowers the equipment's power to match the mean;
+#' * `meter_heating_schedule()` is 1 at the hours of the week when a gas
+#'   (heating) meter's use is at least `on` of the way from its quietest to
+#'   its busiest hour, 0 otherwise: the plant's timer. Give it the winter's
+#'   readings, when the plant runs every day.
 #'
 #' @param time The readings' times, `POSIXct` in the building's time zone
 #'   (e.g. [field_hours()]'s `time`, its zone set to the building's clock).
 #' @param y The readings.
-#' @return 168 shares from Monday 0:00, for `bem_building(occupancy = )`.
+#' @param on The share of the profile's range above which the plant is on.
+#' @return `meter_occupancy()` and `meter_heating_schedule()`: 168 shares
+#'   from Monday 0:00, for `bem_building(occupancy = )` and
+#'   `bem_building(heating_schedule = )`. `meter_equipment_fraction()`: one
+#'   share, for `bem_building(equipment_fraction = )`.
 #' @family simulation
 #' @export
 #' @examples
 #' time <- as.POSIXct("2013-01-07", tz = "Europe/London") + 3600 * (0:(24 * 28 - 1))
 #' open <- as.integer(format(time, "%u")) <= 5 & as.integer(format(time, "%H")) %in% 8:17
-#' occupancy <- meter_occupancy(time, 10 + 20 * open)
+#' use <- 10 + 20 * open
+#' occupancy <- meter_occupancy(time, use)
 #' occupancy[1:24]   # Monday
+#' meter_equipment_fraction(time, use)   # 10/30 at night and weekends
+#' meter_heating_schedule(time, use)[1:24]
 meter_occupancy <- function(time, y) {
+  unit_range(week_profile(time, y))
+}
+
+#' @rdname meter_occupancy
+#' @export
+meter_equipment_fraction <- function(time, y) {
+  profile <- week_profile(time, y)
+  if (max(profile) <= 0) {
+    abort_bayesbem(c("The readings' busiest hour of the week has a mean of {max(profile)}: no use to share out.",
+                     i = "Give an electricity meter's readings."),
+                   "argument")
+  }
+  mean(profile) / max(profile)
+}
+
+#' @rdname meter_occupancy
+#' @export
+meter_heating_schedule <- function(time, y, on = 0.25) {
+  if (!is.numeric(on) || length(on) != 1L || is.na(on) || on <= 0 || on >= 1) {
+    abort_bayesbem("{.arg on} must be one number between 0 and 1, not {describe_value(on)}.",
+                   "argument")
+  }
+  as.numeric(unit_range(week_profile(time, y)) >= on)
+}
+
+# A profile scaled to 0 at its least and 1 at its most; 1 if it is flat.
+unit_range <- function(profile) {
+  spread <- diff(range(profile))
+  if (spread == 0) rep(1, length(profile)) else (profile - min(profile)) / spread
+}
+
+# The mean reading at each of the 168 hours of the week, from Monday 0:00
+# on the clock of `time`'s zone; every hour must be seen.
+week_profile <- function(time, y, call = rlang::caller_env()) {
   if (!inherits(time, "POSIXct") || !is.numeric(y) || length(y) != length(time) ||
       anyNA(time)) {
     abort_bayesbem("{.arg time} and {.arg y} must be {.cls POSIXct} times and one reading each, not {describe_value(time)} and {describe_value(y)}.",
-                   "argument")
+                   "argument", call = call)
   }
   week_hour <- hour_of_week(time, attr(time, "tzone") %||% "")
   profile <- as.vector(tapply(y, factor(week_hour, levels = 0:167), mean, na.rm = TRUE))
@@ -407,8 +460,7 @@ meter_occupancy <- function(time, y) {
     abort_bayesbem(c("The readings miss {length(unseen)} hour{?s} of the week.",
                      x = "Hours of the week (0 = Monday 0:00): {utils::head(unseen, 5)}.",
                      i = "Give at least a week of readings."),
-                   "argument")
+                   "argument", call = call)
   }
-  spread <- diff(range(profile))
-  if (spread == 0) rep(1, 168L) else (profile - min(profile)) / spread
+  profile
 }

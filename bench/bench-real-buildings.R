@@ -63,19 +63,17 @@ varied <- list(electricity = c("equipment_power_density", "lighting_power_densit
 # refusal (the measured total and the runs' range) instead.
 calibrate_building <- function(b, facts, meter_name, field, time, use, baseline, intensity) {
   train_time <- field$time[!held_out(field$time)]
-  occupancy <- meter_occupancy(train_time, field$y[!held_out(field$time)])
-  # the equipment's mean share of its full use, the meter's mean over its
-  # busiest hour of the week: the model's equipment then follows the
-  # meter's profile, base load included (schedule_shape())
-  profile <- tapply(field$y[!held_out(field$time)],
-                    format(train_time, "%u %H", tz = zone), mean)
+  train_use <- field$y[!held_out(field$time)]
+  # the model's equipment then follows the meter's profile, base load included
+  occupancy <- meter_occupancy(train_time, train_use)
+  equipment <- meter_equipment_fraction(train_time, train_use)
   # a ventilation-only air system, 1 l/s per m2 of floor (10 l/s a person
   # at 10 m2 each), not the case study's all-air 5.7 l/s per m2
   building <- bem_building_facts(facts$floor_area, floors = facts$floors,
                                  roof_area = facts$roof_area, type = "university", clock = zone,
                                  cooling = FALSE, occupancy = occupancy,
                                  fan_flow = 1e-3 * facts$floor_area,
-                                 equipment_fraction = mean(profile) / max(profile),
+                                 equipment_fraction = equipment,
                                  heating_schedule = heating_timer(b))
   pars <- bem_parameters(type = "university", electricity = intensity)
   meter <- bem_simulator(epw, parameters = pars, building = building, by = "hour",
@@ -92,8 +90,7 @@ calibrate_building <- function(b, facts, meter_name, field, time, use, baseline,
                     kwh_per_m2 = round(sum(field$y) / facts$floor_area))
   started <- proc.time()[["elapsed"]]
   fit <- tryCatch(suppressWarnings(calibrate(train, runs, seed = 1, progress = FALSE)),
-                  bayesbem_error_prior_misses = function(e) e,
-                  bayesbem_error_constant = function(e) e)
+                  bayesbem_error_prior_misses = function(e) e)
   seconds <- proc.time()[["elapsed"]] - started
   if (inherits(fit, "error")) {
     cat(sprintf("building %s, %s: %s\n", b, meter_name, cli::ansi_strip(conditionMessage(fit))))
@@ -111,16 +108,15 @@ calibrate_building <- function(b, facts, meter_name, field, time, use, baseline,
              rhat = round(max(check_convergence(fit, warn = FALSE)$rhat), 3))
 }
 
-# The heating plant's timer: the hours of the week when the gas meter's
-# mean use in the training winter (January-March) is above a quarter of its
-# range (meter_occupancy()); around the clock without a gas meter.
+# The heating plant's timer from the gas meter's training winter
+# (January-March); around the clock without a gas meter.
 heating_timer <- function(b) {
   gas <- archive_meter(b, "gas", year)
   if (is.null(gas)) return(NULL)
   time <- as.POSIXct(gas[[1]], tz = "UTC")
   attr(time, "tzone") <- zone
   winter <- as.integer(format(time, "%m", tz = zone)) <= 3L
-  as.numeric(meter_occupancy(time[winter], gas[[2]][winter]) >= 0.25)
+  meter_heating_schedule(time[winter], gas[[2]][winter])
 }
 
 # What stands for a missing reading: a gas meter rests in summer, so runs
