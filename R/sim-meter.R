@@ -384,12 +384,16 @@ calendar_covariates <- function(simulator, holidays = NULL) {
 #' * `meter_occupancy()` scales that profile to 0 at the quietest hour and
 #'   1 at the busiest, so that the model's schedule has the meter's weekday
 #'   and weekend shape;
-#' * `meter_equipment_fraction()` is the profile's mean over its busiest
-#'   hour, the equipment's mean share of its full use. With both from one
-#'   electricity meter the model's equipment has the meter's profile, its
-#'   base load included; the default share (0.7) would put too much of the
-#'   use in the occupied hours of a building whose base load is low, and the
-#'   calibration then lowers the equipment's power to match the mean;
+#' * `meter_load_fraction()` is the profile's mean over its busiest hour:
+#'   the loads' mean share of their full use. Given as both
+#'   `lighting_fraction` and `equipment_fraction`, with the occupancy from
+#'   the same electricity meter, the model's lights and equipment follow the
+#'   meter's profile, its base load included, whatever their densities, so
+#'   that the densities that match the meter's level also match the
+#'   amplitude of its week. With the defaults (0.6 and 0.7) a building of
+#'   high base load swings more in the model than on its meter, and the
+#'   likelihood favours the densities whose swing matches, below the
+#'   level, leaving the level to the discrepancy;
 #' * `meter_heating_schedule()` is 1 at the hours of the week when a gas
 #'   (heating) meter's use is at least `on` of the way from its quietest to
 #'   its busiest hour, 0 otherwise: the plant's timer. Give it the winter's
@@ -401,8 +405,8 @@ calendar_covariates <- function(simulator, holidays = NULL) {
 #' @param on The share of the profile's range above which the plant is on.
 #' @return `meter_occupancy()` and `meter_heating_schedule()`: 168 shares
 #'   from Monday 0:00, for `bem_building(occupancy = )` and
-#'   `bem_building(heating_schedule = )`. `meter_equipment_fraction()`: one
-#'   share, for `bem_building(equipment_fraction = )`.
+#'   `bem_building(heating_schedule = )`. `meter_load_fraction()`: one
+#'   share, for `bem_building(lighting_fraction = , equipment_fraction = )`.
 #' @family simulation
 #' @export
 #' @examples
@@ -411,7 +415,7 @@ calendar_covariates <- function(simulator, holidays = NULL) {
 #' use <- 10 + 20 * open
 #' occupancy <- meter_occupancy(time, use)
 #' occupancy[1:24]   # Monday
-#' meter_equipment_fraction(time, use)   # 10/30 at night and weekends
+#' meter_load_fraction(time, use)   # 10/30 at night and weekends
 #' meter_heating_schedule(time, use)[1:24]
 meter_occupancy <- function(time, y) {
   unit_range(week_profile(time, y))
@@ -419,7 +423,7 @@ meter_occupancy <- function(time, y) {
 
 #' @rdname meter_occupancy
 #' @export
-meter_equipment_fraction <- function(time, y) {
+meter_load_fraction <- function(time, y) {
   profile <- week_profile(time, y)
   if (max(profile) <= 0) {
     abort_bayesbem(c("The readings' busiest hour of the week has a mean of {max(profile)}: no use to share out.",

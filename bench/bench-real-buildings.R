@@ -64,16 +64,17 @@ varied <- list(electricity = c("equipment_power_density", "lighting_power_densit
 calibrate_building <- function(b, facts, meter_name, field, time, use, baseline, intensity) {
   train_time <- field$time[!held_out(field$time)]
   train_use <- field$y[!held_out(field$time)]
-  # the model's equipment then follows the meter's profile, base load included
+  # the model's lights and equipment then follow the meter's profile, base
+  # load included, whatever their densities
   occupancy <- meter_occupancy(train_time, train_use)
-  equipment <- meter_equipment_fraction(train_time, train_use)
+  share <- meter_load_fraction(train_time, train_use)
   # a ventilation-only air system, 1 l/s per m2 of floor (10 l/s a person
   # at 10 m2 each), not the case study's all-air 5.7 l/s per m2
   building <- bem_building_facts(facts$floor_area, floors = facts$floors,
                                  roof_area = facts$roof_area, type = "university", clock = zone,
                                  cooling = FALSE, occupancy = occupancy,
                                  fan_flow = 1e-3 * facts$floor_area,
-                                 equipment_fraction = equipment,
+                                 lighting_fraction = share, equipment_fraction = share,
                                  heating_schedule = heating_timer(b))
   pars <- bem_parameters(type = "university", electricity = intensity)
   meter <- bem_simulator(epw, parameters = pars, building = building, by = "hour",

@@ -180,24 +180,24 @@ test_that("the occupancy estimated from a meter has its weekday and weekend shap
   expect_error(meter_occupancy(time[1:100], y[1:100]), "miss", class = "bayesbem_error_argument")
 })
 
-test_that("the equipment share and the heating timer from a meter reproduce its profile", {
+test_that("the loads' share and the heating timer from a meter reproduce its profile", {
   time <- as.POSIXct("2013-01-07", tz = "Europe/London") + 3600 * (0:(24 * 14 - 1))
   hour <- as.integer(format(time, "%H"))
   open <- as.integer(format(time, "%u")) <= 5 & hour >= 8 & hour < 18
   y <- 10 + 30 * open
   # 50 open hours at 40 and 118 others at 10, over the busiest hour's 40
-  fraction <- meter_equipment_fraction(time, y)
+  fraction <- meter_load_fraction(time, y)
   expect_equal(fraction, (50 * 40 + 118 * 10) / 168 / 40)
-  # the model's equipment profile is then the meter's, base load included
+  # the model's lights' and equipment's profile is then the meter's, base load included
   week <- as.vector(tapply(y, bayesbem:::hour_of_week(time, "Europe/London"), mean))
   expect_equal(bayesbem:::schedule_shape(meter_occupancy(time, y), fraction), week / mean(week))
   expected <- rep(c(rep(c(rep(0, 8), rep(1, 10), rep(0, 6)), 5), rep(0, 48)))
   expect_equal(meter_heating_schedule(time, y), expected)
   expect_equal(meter_heating_schedule(time, y, on = 0.5), expected)
   expect_no_error(bem_building(heating_schedule = meter_heating_schedule(time, y),
-                               equipment_fraction = fraction))
+                               lighting_fraction = fraction, equipment_fraction = fraction))
   expect_error(meter_heating_schedule(time, y, on = 1), class = "bayesbem_error_argument")
-  expect_error(meter_equipment_fraction(time, 0 * y), class = "bayesbem_error_argument")
-  expect_error(meter_equipment_fraction(time[1:10], y[1:10]), "miss",
+  expect_error(meter_load_fraction(time, 0 * y), class = "bayesbem_error_argument")
+  expect_error(meter_load_fraction(time[1:10], y[1:10]), "miss",
                class = "bayesbem_error_argument")
 })
