@@ -6,7 +6,8 @@
 # archive has them: building 33's hourly electricity and gas of 2019 (UTC
 # stamps, missing readings stored as zeros) and the Met Office's hourly
 # observations at Bedford for 2019, with the first hour of 2020 (the
-# station stamps each hour by its end). Run from the package root with the
+# station stamps each hour by its end), and building 33's row of the
+# archive's floor and roof areas. Run from the package root with the
 # archive fetched as a git directory or checked out:
 #   CAMBRIDGE_ARCHIVE=<archive> Rscript data-raw/cambridge.R
 archive <- Sys.getenv("CAMBRIDGE_ARCHIVE")
@@ -30,3 +31,5 @@ for (meter in c("electricity", "gas")) {
 station <- "aux_data/MetOffice Weather Data/processed_data/bedford/%d.csv"
 write_gz(c(archive_lines(sprintf(station, 2019)), archive_lines(sprintf(station, 2020))[2]),
          "bedford-2019.csv.gz")
+areas <- archive_lines("building_data/processed_data/building_floor_roof_areas.csv")
+writeLines(c(areas[1], grep("^b33,", areas, value = TRUE)), file.path(out, "b33-areas.csv"))

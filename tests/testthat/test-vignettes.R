@@ -55,10 +55,10 @@ test_that("the smart-meter vignette renders its diagnosis, the mechanism's fit a
                                             "with_weekend_loads", "true_saving"))
 })
 
-test_that("the real-building vignette renders the export's check, TOWT beside and the warning", {
+test_that("the real-building vignette renders the export's check, the facts, TOWT beside and the savings", {
   skip_on_cran()
   expect_rendered("real-building", 0, c("a partial first or last reading", "typical_gas_per_m2",
-                                        "pile against a limit", "TOWT baseline",
+                                        "GIA (m2)", "meter_load_fraction", "TOWT baseline",
                                         "a fifth less plug load"))
 })
 
