@@ -60,7 +60,9 @@ building_type <- function(type, call = rlang::caller_env()) {
 # 90.1-2004 allowance, in use its share type_lighting_share() of the hours,
 # and equipment (the case study's mean share in use, 0.7) the rest, at
 # least a quarter of it. Ranges: the lighting from half the allowance (an
-# LED refit) to one and a half times (older lamps); the equipment from a
+# LED refit), or half the mean power where that is lower (lights that
+# share a low meter's base load cannot draw more than the meter), to one
+# and a half times the allowance (older lamps); the equipment from a
 # tenth to one and a half times that electricity's whole mean power in
 # use, so that the prior spans meters well below and above it.
 type_loads <- function(type, electricity = NULL, call = rlang::caller_env()) {
@@ -69,7 +71,7 @@ type_loads <- function(type, electricity = NULL, call = rlang::caller_env()) {
   equipment <- max(power - type_lighting_share(type) * row$lighting, 0.25 * power) / 0.7
   data.frame(parameter = c("equipment_power_density", "lighting_power_density"),
              initial = c(equipment, row$lighting),
-             min = c(0.1 * power / 0.7, 0.5 * row$lighting),
+             min = c(0.1 * power / 0.7, 0.5 * min(row$lighting, power)),
              max = 1.5 * c(power / 0.7, row$lighting))
 }
 

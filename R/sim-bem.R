@@ -12,7 +12,8 @@
 #' at their initial values, in a building of that type
 #' (`bem_building_facts(type = )`), the lighting is the type's ASHRAE
 #' 90.1-2004 allowance and the two use the type's typical CIBSE TM46
-#' electricity; the lighting ranges from half to one and a half times the
+#' electricity; the lighting ranges from half the allowance, or half the
+#' benchmark's mean power where that is lower, to one and a half times the
 #' allowance, the equipment from a tenth to one and a half times the
 #' benchmark's mean power in use. The other parameters are the case
 #' study's.
@@ -21,7 +22,9 @@
 #' laboratory wing, a data room, a half-empty block) lies outside those
 #' ranges; `electricity`, its metered use per m2 of floor, takes the
 #' benchmark's place, so that the loads start at and range around what the
-#' meter says (the lighting allowance stays the type's).
+#' meter says (the lighting allowance stays the type's; its lower limit
+#' follows a meter below it, whose lights cannot draw more than the
+#' meter).
 #'
 #' @param type A building type of [bem_building_types()] (e.g.
 #'   `"university"`), or `NULL` (the default): the case study's loads.

@@ -32,7 +32,12 @@ test_that("a metered electricity takes the benchmark's place", {
   at <- match(c("equipment_power_density", "lighting_power_density"), lab$parameter)
   lit <- bem_building_facts(1000, type = "university")$lighting_fraction
   # the lighting allowance stays the type's, the equipment draws the rest
-  expect_equal(lab[at[2], ], campus[at[2], ])
+  expect_equal(lab[at[2], c("initial", "max")], campus[at[2], c("initial", "max")])
+  expect_equal(lab$min[at[2]], 0.5 * 1.2 * 10.764, tolerance = 0.01)
+  # below the allowance, the lights' lower limit is half the meter's mean power
+  low <- bem_parameters(type = "university", electricity = 60)
+  expect_equal(low$min[at[2]], 0.5 * 60 / 8.76)
+  expect_equal(low$initial[at[2]], campus$initial[at[2]])
   expect_equal(lit * lab$initial[at[2]] + 0.7 * lab$initial[at[1]], 400 / 8.76)
   expect_equal(lab$max[at[1]], 1.5 * 400 / 8.76 / 0.7)
   expect_equal(bem_parameters(type = "university", electricity = 80), campus)
