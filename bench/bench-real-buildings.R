@@ -13,9 +13,10 @@
 # list of meters, e.g. electricity), each meter is also calibrated on its
 # own: the embedded hourly model of an uncooled building of the archive's
 # floor area, floors and roof area (building_floor_roof_areas.csv) on
-# London's clock, its occupancy estimated from the training months'
-# readings (meter_occupancy()), its heating on the timer its gas meter's
-# winter profile shows (bem_building(heating_schedule =)), a university's loads centred on its
+# London's clock, its occupancy and its loads' mean share estimated from
+# the training months' readings (meter_occupancy(), meter_load_fraction()),
+# its heating on the timer its gas meter's winter profile shows
+# (meter_heating_schedule()), a university's loads centred on its
 # metered electricity per m2 (bem_parameters(type =, electricity =)), a
 # ventilation-only fan; 30 runs over the three parameters that move the
 # meter most, calibrate()'s defaults on January-September, and
