@@ -104,7 +104,7 @@ bem_parameters <- function(type = NULL, electricity = NULL) {
 #'   between, the set point that share of the way from the setback), on
 #'   the same clock; `NULL`, the default: around the clock, as the case
 #'   study's. Most non-domestic heating runs on a timer, off at night: a
-#'   gas meter's own winter profile ([meter_occupancy()]) shows its hours.
+#'   gas meter's own winter profile shows its hours ([meter_heating_schedule()]).
 #'   The monthly model uses the mean shares, and the set point's mean over
 #'   the week. `cooling`: whether the building is cooled (`FALSE`: no DX coil,
 #'   the air floats above the cooling set point, no cooling electricity;

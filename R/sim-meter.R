@@ -415,7 +415,7 @@ calendar_covariates <- function(simulator, holidays = NULL) {
 #' use <- 10 + 20 * open
 #' occupancy <- meter_occupancy(time, use)
 #' occupancy[1:24]   # Monday
-#' meter_load_fraction(time, use)   # 10/30 at night and weekends
+#' meter_load_fraction(time, use)   # the week's mean over its busiest hour
 #' meter_heating_schedule(time, use)[1:24]
 meter_occupancy <- function(time, y) {
   unit_range(week_profile(time, y))
