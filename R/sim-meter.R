@@ -436,10 +436,7 @@ meter_load_fraction <- function(time, y) {
 #' @rdname meter_occupancy
 #' @export
 meter_heating_schedule <- function(time, y, on = 0.25) {
-  if (!is.numeric(on) || length(on) != 1L || is.na(on) || on <= 0 || on >= 1) {
-    abort_bayesbem("{.arg on} must be one number between 0 and 1, not {describe_value(on)}.",
-                   "argument")
-  }
+  check_probability(on)
   as.numeric(unit_range(week_profile(time, y)) >= on)
 }
 
