@@ -76,7 +76,7 @@ calibrate_building <- function(b, facts, meter_name, field, time, use, baseline,
                                  cooling = FALSE, occupancy = occupancy,
                                  fan_flow = 1e-3 * facts$floor_area,
                                  lighting_fraction = share, equipment_fraction = share,
-                                 heating_schedule = heating_timer(b))
+                                 heating_schedule = facts$heating_schedule)
   pars <- bem_parameters(type = "university", electricity = intensity)
   meter <- bem_simulator(epw, parameters = pars, building = building, by = "hour",
                          output = meter_name)
@@ -110,10 +110,9 @@ calibrate_building <- function(b, facts, meter_name, field, time, use, baseline,
              rhat = round(max(check_convergence(fit, warn = FALSE)$rhat), 3))
 }
 
-# The heating plant's timer from the gas meter's training winter
-# (January-March); around the clock without a gas meter.
-heating_timer <- function(b) {
-  gas <- archive_meter(b, "gas", year)
+# The heating plant's timer from the gas meter's readings (time, value) of
+# the training winter (January-March); around the clock (NULL) without.
+heating_timer <- function(gas) {
   if (is.null(gas)) return(NULL)
   time <- as.POSIXct(gas[[1]], tz = "UTC")
   attr(time, "tzone") <- zone
@@ -131,8 +130,10 @@ calibrated <- list()
 rows <- list()
 for (b in buildings) {
   facts <- archive_facts(b)
-  for (meter in c("electricity", "gas")) {
-    readings <- archive_meter(b, meter, year)
+  meters <- lapply(c(electricity = "electricity", gas = "gas"), archive_meter, b = b, year = year)
+  facts$heating_schedule <- heating_timer(meters$gas)
+  for (meter in names(meters)) {
+    readings <- meters[[meter]]
     if (is.null(readings)) next
     time <- as.POSIXct(readings[[1]], tz = "UTC")
     rules <- meter_rules_of(meter)
